@@ -1,0 +1,314 @@
+//! The action: the interaction force f(t) between ball and surface.
+//!
+//! TASLP Fig. 5 (bottom) and eq 5: f(t) = Σₙ Aⁿ·φⁿ(t − Tⁿ), then the amplitude modulation
+//! (eq 7) and the velocity low-pass (CMMR §3.4):
+//!
+//! ```text
+//! series (Aⁿ, Δⁿ_T) ─► pulses φ_ξ, t₀ = ζ·Aⁿ^−θ ─► × L(V) × [1 + m·sin 2πν_m t] ─► low-pass f_c(V)
+//! ```
+//!
+//! Controls are smoothed ([`crate::smooth`]); per-impact quantities (A, Δ, t₀, ξ) take the
+//! smoothed values at the moment the impact is generated, per-sample quantities (loudness,
+//! AM depth and rate) are interpolated sample by sample. A ball at rest (V = 0, smoothed and
+//! target) generates no impacts at all.
+
+use crate::lowpass::{cutoff_hz, loudness, Lowpass};
+use crate::modulation::{rate_hz, Modulator};
+use crate::pulse::{duration_s, rolling_zeta_s, PulseEval, PulseShape, PulseTrain, T0_EXPONENT, T0_MAX_S};
+use crate::series::{ImpactSeries, SeriesParams, SeriesStep};
+use crate::smooth::Smoother;
+
+/// One generated impact, as reported for analysis (`--impacts FILE.csv`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ImpactRecord {
+    /// Impact time Tⁿ (pulse centre) in seconds since the last reset.
+    pub time_s: f64,
+    /// Series amplitude Aⁿ (after the floor rule of [`crate::series`], before the velocity
+    /// loudness gain and the amplitude modulation).
+    pub amplitude: f64,
+    /// Pulse duration t₀ⁿ in seconds, from the duration law (before any widening to two
+    /// samples, see [`crate::pulse`]).
+    pub duration_s: f64,
+}
+
+/// The action controls, in the units of [`crate::params::PARAMS`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SourceControls {
+    /// Ball size S ∈ [0.1, 1].
+    pub size: f64,
+    /// Velocity V ∈ [0, 1].
+    pub velocity: f64,
+    /// Roughness ρ ∈ [0, 1].
+    pub roughness: f64,
+    /// AM depth m ∈ [0, 1].
+    pub asymmetry: f64,
+    /// Sharpness ξ ∈ [0.5, 8].
+    pub sharpness: f64,
+}
+
+impl Default for SourceControls {
+    fn default() -> Self {
+        Self {
+            size: 0.4,
+            velocity: 0.5,
+            roughness: 0.5,
+            asymmetry: 0.3,
+            sharpness: 1.0,
+        }
+    }
+}
+
+/// Capacity of the impact report ring (records); older unread records are dropped.
+pub const IMPACT_LOG_CAPACITY: usize = 1 << 15;
+
+/// The force generator.
+///
+/// # Allocation
+/// `new` and `set_sample_rate` allocate (pulse ring, impact log); nothing else does.
+#[derive(Clone, Debug)]
+pub struct Source {
+    fs: f64,
+    series: ImpactSeries,
+    shape: PulseShape,
+    train: PulseTrain,
+    /// Centre of the pending impact, in samples from the next output sample.
+    next_center: f64,
+    pending: SeriesStep,
+    am: Modulator,
+    lp: Lowpass,
+    /// Samples elapsed since reset (exact in f64 for 2⁵³ samples: 740 years at 384 kHz).
+    origin: f64,
+    size: Smoother,
+    velocity: Smoother,
+    roughness: Smoother,
+    asymmetry: Smoother,
+    sharpness: Smoother,
+    /// Roughness the series parameters were last computed for.
+    series_rho: f64,
+    log: Vec<ImpactRecord>,
+    log_head: usize,
+    log_len: usize,
+    log_dropped: u64,
+    log_enabled: bool,
+}
+
+impl Source {
+    /// A source at `sample_rate_hz` (sanitized to 8–384 kHz) with the given seed.
+    pub fn new(sample_rate_hz: f64, controls: SourceControls, seed: u64) -> Self {
+        let fs = crate::sanitize_sample_rate(sample_rate_hz);
+        let mut s = Self {
+            fs,
+            series: ImpactSeries::new(SeriesParams::table_i(controls.roughness), seed),
+            shape: PulseShape::new(controls.sharpness, PulseEval::Table),
+            train: PulseTrain::new(fs),
+            next_center: 0.0,
+            pending: SeriesStep {
+                amplitude: 0.0,
+                interval_s: 0.0,
+                raw_amplitude: 0.0,
+                raw_interval_s: 0.0,
+            },
+            am: Modulator::new(),
+            lp: Lowpass::new(),
+            origin: 0.0,
+            size: Smoother::new(controls.size),
+            velocity: Smoother::new(controls.velocity),
+            roughness: Smoother::new(controls.roughness),
+            asymmetry: Smoother::new(controls.asymmetry),
+            sharpness: Smoother::new(controls.sharpness),
+            series_rho: controls.roughness,
+            log: vec![
+                ImpactRecord {
+                    time_s: 0.0,
+                    amplitude: 0.0,
+                    duration_s: 0.0
+                };
+                IMPACT_LOG_CAPACITY
+            ],
+            log_head: 0,
+            log_len: 0,
+            log_dropped: 0,
+            log_enabled: false,
+        };
+        s.set_controls(controls);
+        s.reset();
+        s
+    }
+
+    /// Change the sample rate (allocates the pulse ring) and reset.
+    pub fn set_sample_rate(&mut self, sample_rate_hz: f64) {
+        self.fs = crate::sanitize_sample_rate(sample_rate_hz);
+        self.train = PulseTrain::new(self.fs);
+        self.reset();
+    }
+
+    /// The sample rate in Hz.
+    pub fn sample_rate(&self) -> f64 {
+        self.fs
+    }
+
+    /// Set the seed; takes effect at once (the series restarts from the new seed).
+    pub fn set_seed(&mut self, seed: u64) {
+        self.series.set_seed(seed);
+        self.series.reset();
+    }
+
+    /// Back to the state after `new`: series reseeded, pulses and filters cleared, time 0,
+    /// smoothers at their targets. Real-time safe.
+    pub fn reset(&mut self) {
+        for s in [
+            &mut self.size,
+            &mut self.velocity,
+            &mut self.roughness,
+            &mut self.asymmetry,
+            &mut self.sharpness,
+        ] {
+            s.snap_to_target();
+        }
+        self.series_rho = self.roughness.value();
+        self.series.set_params(SeriesParams::table_i(self.series_rho));
+        self.shape.set_sharpness(self.sharpness.value());
+        self.series.reset();
+        self.train.reset();
+        self.am.reset();
+        self.lp.reset();
+        self.origin = 0.0;
+        self.pending = self.series.next_impact();
+        self.next_center = self.pending.interval_s * self.fs;
+        self.pending = self.series.next_impact();
+        self.log_head = 0;
+        self.log_len = 0;
+        self.log_dropped = 0;
+    }
+
+    /// Set the control targets (smoothed).
+    pub fn set_controls(&mut self, c: SourceControls) {
+        self.size.set_target(c.size.clamp(0.1, 1.0));
+        self.velocity.set_target(c.velocity.clamp(0.0, 1.0));
+        self.roughness.set_target(c.roughness.clamp(0.0, 1.0));
+        self.asymmetry.set_target(c.asymmetry.clamp(0.0, 1.0));
+        self.sharpness.set_target(c.sharpness.clamp(0.5, 8.0));
+    }
+
+    /// Jump every smoothed control to its target (first block of a render).
+    pub fn snap_controls(&mut self) {
+        self.size.snap_to_target();
+        self.velocity.snap_to_target();
+        self.roughness.snap_to_target();
+        self.asymmetry.snap_to_target();
+        self.sharpness.snap_to_target();
+        self.series_rho = self.roughness.value();
+        self.series.set_params(SeriesParams::table_i(self.series_rho));
+        self.shape.set_sharpness(self.sharpness.value());
+    }
+
+    /// Choose how pulses are evaluated (speed/accuracy knob).
+    pub fn set_pulse_eval(&mut self, eval: PulseEval) {
+        self.shape.set_eval(eval);
+    }
+
+    /// Record impacts for [`drain_impacts`](Self::drain_impacts) (off by default).
+    pub fn set_impact_log(&mut self, enabled: bool) {
+        self.log_enabled = enabled;
+    }
+
+    /// Hand every recorded impact (oldest first) to `f` and clear the record. Returns the
+    /// number of records dropped because the ring was full since the last drain.
+    pub fn drain_impacts(&mut self, mut f: impl FnMut(ImpactRecord)) -> u64 {
+        let cap = self.log.len();
+        let start = (self.log_head + cap - self.log_len) % cap;
+        for i in 0..self.log_len {
+            f(self.log[(start + i) % cap]);
+        }
+        self.log_len = 0;
+        core::mem::take(&mut self.log_dropped)
+    }
+
+    fn record(&mut self, r: ImpactRecord) {
+        let cap = self.log.len();
+        self.log[self.log_head] = r;
+        self.log_head = (self.log_head + 1) % cap;
+        if self.log_len == cap {
+            self.log_dropped += 1;
+        } else {
+            self.log_len += 1;
+        }
+    }
+
+    /// True when the ball is at rest (velocity target and value 0): no impacts are made.
+    pub fn at_rest(&self) -> bool {
+        self.velocity.target() == 0.0 && self.velocity.value() == 0.0
+    }
+
+    /// Generate the force for one chunk (`out.len() ≤` [`crate::CHUNK`] recommended;
+    /// longer slices work but smooth controls only once).
+    pub fn process_chunk(&mut self, out: &mut [f32]) {
+        let n = out.len();
+        if n == 0 {
+            return;
+        }
+        let fs = self.fs;
+        let (s0, s1) = self.size.advance(n, fs);
+        let (v0, v1) = self.velocity.advance(n, fs);
+        let (_, rho) = self.roughness.advance(n, fs);
+        let (m0, m1) = self.asymmetry.advance(n, fs);
+        let (_, xi) = self.sharpness.advance(n, fs);
+        if rho != self.series_rho {
+            self.series.set_params(SeriesParams::table_i(rho));
+            self.series_rho = rho;
+        }
+        self.shape.set_sharpness(xi);
+
+        if !(v0 == 0.0 && v1 == 0.0) {
+            // Spawn every impact whose pulse may start inside this chunk.
+            let zeta = rolling_zeta_s(s1);
+            let lead = 0.5 * T0_MAX_S * fs;
+            while self.next_center - lead < n as f64 {
+                let step = self.pending;
+                let t0 = duration_s(zeta, T0_EXPONENT, step.amplitude);
+                self.train
+                    .add(&self.shape, self.next_center, t0 * fs, step.amplitude as f32);
+                if self.log_enabled {
+                    self.record(ImpactRecord {
+                        time_s: (self.origin + self.next_center) / fs,
+                        amplitude: step.amplitude,
+                        duration_s: t0,
+                    });
+                }
+                self.next_center += step.interval_s * fs;
+                self.pending = self.series.next_impact();
+            }
+        } else {
+            // At rest: time passes, nothing rolls. Keep the pending impact ahead of us.
+            self.next_center = self.next_center.max(0.5 * T0_MAX_S * fs + n as f64);
+        }
+        self.train.read(out);
+
+        // Loudness L(V), interpolated per sample.
+        let (l0, l1) = (loudness(v0) as f32, loudness(v1) as f32);
+        if l0 == l1 {
+            if l1 != 1.0 {
+                out.iter_mut().for_each(|x| *x *= l1);
+            }
+        } else {
+            let d = (l1 - l0) / n as f32;
+            let mut l = l0;
+            for x in out.iter_mut() {
+                l += d;
+                *x *= l;
+            }
+        }
+        // AM, ν_m = 3V/S (TASLP eq 17).
+        self.am.apply(
+            out,
+            (m0 as f32, m1 as f32),
+            (rate_hz(v0, s0) / fs, rate_hz(v1, s1) / fs),
+        );
+        // Velocity low-pass.
+        self.lp.set_cutoff(cutoff_hz(v1), fs);
+        self.lp.process(out);
+
+        self.next_center -= n as f64;
+        self.origin += n as f64;
+    }
+}
