@@ -1,0 +1,1303 @@
+//! Physics engine: a Hunt–Crossley ball rolling on a fractal surface (the accurate, slow
+//! reference for the signal model).
+//!
+//! TASLP §II-A (eqs 2–4) and §III, after Rath & Rocchesso (Rath 2003): a ball of mass m_e,
+//! under gravity, in non-linear contact with a surface whose micro-profile it scans at the
+//! rolling speed v. The surface is a fractal profile turned into the *offset curve* h(x) by
+//! Rath's rolling filter ([`crate::surface`]). The output is the interaction force f(t), the
+//! quantity the signal model's impact series imitates (TASLP §III: the force alone carries
+//! the "rollingness").
+//!
+//! ```text
+//!  FractalProfile ──► RollingFilter ──► h_j every Δ ──► h(t) = lerp(h, v·t/Δ) ─┐
+//!  (β, relief, seed)   (radius R)                                              │ x = h + Σw − y
+//!                                                                              ▼
+//!   ball:   ÿ = −g + f/m_e + a_asym(t)          f = k·x^α·(1 + μ·ẋ)  (x > 0), else 0
+//!   modes:  ẅ_i + g_i ẇ_i + ω_i² w_i = −f/m_i   (optional; rigid surface by default)
+//!   RK4 at f_s × oversample ──► f(t) (N), one value per output sample
+//! ```
+//!
+//! ## Model (TASLP eqs 2–3)
+//! - y: height of the ball's lowest point (m, up positive); u = ẏ.
+//! - x = h(t) + Σ w_i − y: penetration (m); ẋ = ḣ + Σ ẇ_i − u, ḣ = v·dh/dx.
+//! - Hunt–Crossley force f = k·x^α·(1 + μ·ẋ) for x > 0, else 0 (eq 3), α = 3/2 (Hertz,
+//!   [`ALPHA`]), parameterised as in §III-B by κ = k/m_e (N·m^−α·kg^−1) and μ = λ/k (s/m).
+//!   The force is clamped at 0 when 1 + μẋ < 0 (a contact cannot pull; never reached at
+//!   the paper's ≤ 5 cm/s impact speeds with μ ≤ 10 s/m).
+//! - Ball: m_e ÿ = −m_e g + f + F_asym (eq 2, with x_e = −y).
+//! - Modes (eq 2): each mode of the object is a mass–spring–damper (ω_i, g_i, m_i) driven
+//!   by −f at the contact point; g_i = 2/τ_i from the 1/e amplitude decay time τ_i. Given as
+//!   (freq_hz, decay_s, mass_kg) triples ([`PhysicsEngine::set_modes`]); the default is
+//!   the rigid surface of TASLP §III ("forces are computed on a rigid surface").
+//! - Asymmetry (Rath 2003 §5, eqs 3–4): a ball whose centre of mass is off its geometric
+//!   centre by e ([`PhysicsSettings::asymmetry_m`]) adds F_asym = m_e·e·ω²·sin(ωt), ω = v/R
+//!   (its rolling angular rate): a modulation of the effective gravity ∝ v², relative depth
+//!   e·(v/R)²/g. Off (e = 0) by default.
+//!
+//! ## Integration
+//! Classical RK4 (TASLP §III, after Papetti et al.) with step 1/(f_s·oversample),
+//! `oversample` ∈ 1..=8 — the accuracy knob. The offset curve is evaluated at the exact
+//! surface position of every RK4 stage (v·t/Δ, linear interpolation between the 0.1 mm
+//! samples), so oversampling also refines the scanning. The slope of that piecewise-linear
+//! curve jumps at every surface sample; a substep that crosses one is split there (about
+//! one substep in 48 at the defaults), so RK4 always integrates a smooth ḣ — without the
+//! split the energy balance drifted by ~50% of m·g·relief in 10 s, with it by ~10⁻⁴. The
+//! contact force at the end of a step is reused as the first stage of the next (FSAL), so
+//! a step costs four force evaluations. Modes with ω_i·h > [`MODE_STABILITY_LIMIT`] would make RK4 unstable and are
+//! dropped (see [`PhysicsHealth::active_modes`]).
+//!
+//! **Output.** One force value (N) per output sample: the mean of the contact force at the
+//! ends of the `oversample` substeps of that sample (a boxcar over one sample period, which
+//! is the value at the sample instant when `oversample` = 1). The asymmetry force is not
+//! part of the output: it acts through the motion of the ball, as gravity does.
+//!
+//! ## The relief, and the default settings
+//! DESIGN §7 warns that with the paper's 0.1 µm surface the static compression under
+//! gravity, (g/κ)^{2/3} ≈ 1.6 µm at κ = 5·10⁹, exceeds the relief: the ball never leaves
+//! the surface. The defaults use a **10 µm** peak-to-valley relief (σ = 1.25 µm), see
+//! [`PhysicsSettings::default`] for the measurements behind that choice.
+//!
+//! ## Health
+//! [`PhysicsHealth`] reports whether the step is fine enough: the energy balance error
+//! (E − E₀ − ∫P dt, with P the power of the moving surface, the damping, the modes and the
+//! asymmetry force, integrated by the same RK4), the contact ratio, impacts per second,
+//! maximum penetration and substeps per contact.
+//!
+//! ## Lifecycle
+//! `new` allocates (rolling-filter rings, modal arrays for [`MAX_MODES`]); `set_settings`,
+//! `set_sample_rate`, `set_speed_m_s`, `set_modes`, `reset` and `process` are real-time safe
+//! (no allocation, no locks, no I/O). Deterministic: the same seed and settings give the
+//! same samples, whatever the block sizes.
+
+use crate::surface::{
+    rolling_half_width, FractalProfile, FractalSettings, RollingFilter, DEFAULT_RESOLUTION_M,
+    MAX_HALF_WIDTH,
+};
+
+/// Hertz exponent α of the contact force (TASLP eq 3: "we will assume α = 3/2").
+pub const ALPHA: f64 = 1.5;
+/// Most modes the object coupling accepts (TASLP eq 2, N).
+pub const MAX_MODES: usize = 256;
+/// Largest oversampling factor of the RK4 integration.
+pub const MAX_OVERSAMPLE: usize = 8;
+/// Gravity used by the paper (TASLP eq 2: "g … 9.81 m/s²").
+pub const GRAVITY_M_S2: f64 = 9.81;
+/// Largest ω·h a mode may have before it is dropped (RK4 is stable for purely imaginary
+/// ω·h up to 2√2 ≈ 2.83; 2.5 keeps a margin for the coupling to the contact spring).
+pub const MODE_STABILITY_LIMIT: f64 = 2.5;
+/// Magnitude under which the ball velocity and modal state are flushed to zero (m, m/s),
+/// every 64 samples: far below any audible motion, far above the f64 subnormal range.
+pub const STATE_FLUSH: f64 = 1.0e-30;
+
+/// Settings of the physics engine (TASLP §II-A, §III; Rath 2003), SI units.
+///
+/// All fields are sanitized (clamped into range, non-finite replaced by the default) when
+/// applied.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PhysicsSettings {
+    /// Output sample rate f_s (Hz); clamped by [`crate::sanitize_sample_rate`].
+    pub sample_rate_hz: f64,
+    /// RK4 substeps per output sample, 1..=[`MAX_OVERSAMPLE`] (the accuracy knob).
+    pub oversample: usize,
+    /// Ball (exciter) mass m_e (kg), TASLP eq 2. Scales the output force and the coupling to
+    /// the modes; with a rigid surface the motion depends only on κ and μ.
+    pub mass_kg: f64,
+    /// κ = k/m_e (N·m^−3/2·kg^−1), TASLP §III-B; k is the Hertz stiffness of eq 4.
+    pub kappa: f64,
+    /// μ = λ/k (s/m), the Hunt–Crossley damping of TASLP eq 3.
+    pub mu_s_per_m: f64,
+    /// Gravity g (m/s²), TASLP eq 2; 0 for a weightless ball.
+    pub gravity_m_s2: f64,
+    /// Ball radius R (m): sets the rolling filter (Rath 2003 §3) and the asymmetry rate v/R.
+    pub radius_m: f64,
+    /// Rolling (transversal) speed v (m/s) at which the surface is scanned (TASLP §II-A:
+    /// "a forced velocity … not affected by the interaction"). Negative values are taken as
+    /// their magnitude; 0 = the ball rests.
+    pub speed_m_s: f64,
+    /// Fractal exponent β of the surface spectrum ∝ ω^β, −1.5 (smooth) … 0 (rough), TASLP
+    /// §II-B, §V-C.
+    pub beta: f64,
+    /// Peak-to-valley relief of the surface (m). The paper states 0.1 µm (TASLP §III-B), which
+    /// gives no impacts at all (DESIGN §7); see [`Default`] for the value used and why.
+    pub relief_m: f64,
+    /// Spatial resolution Δ of the surface (m), 0.1 mm in the paper (TASLP §III).
+    pub resolution_m: f64,
+    /// Longest wavelength that follows the fractal law (m); see
+    /// [`FractalSettings::corner_wavelength_m`].
+    pub corner_wavelength_m: f64,
+    /// Asymmetry e (m): offset of the ball's centre of mass from its centre (Rath 2003 §5,
+    /// (h₁ − h₂)/2 of eq 3). Adds m_e·e·(v/R)²·sin(v·t/R) to the ball. 0 = off (default).
+    pub asymmetry_m: f64,
+    /// Seed of the surface profile (the only random element, TASLP §IV-B1).
+    pub seed: u64,
+}
+
+impl Default for PhysicsSettings {
+    /// The paper's reference scene with a relief that produces impacts:
+    ///
+    /// - κ = 5·10⁹ N·m^−3/2·kg^−1, μ = 1 s/m: (κ₂, μ₂), the pair rated most "rolling"
+    ///   (TASLP §III-D/E, Fig. 2), also the reference of Fig. 4.
+    /// - R = 1 cm, v = 20 cm/s, Δ = 0.1 mm, β = −0.5 (TASLP §III-B, Fig. 4).
+    /// - m_e = 32.9 g: a 1 cm steel ball (7850 kg/m³).
+    /// - relief **10 µm** peak-to-valley (σ = 1.25 µm), corner wavelength 5 cm. Measured
+    ///   (`tests/physics.rs`, 48 kHz, 10 s): 232 impacts/s, contact ratio 0.27, no grazes,
+    ///   95% of consecutive force peaks separated by a flight, mean force-peak interval
+    ///   4.1 ms, impact speeds 1.6 cm/s on average and 4.2 cm/s at most. That is a clear
+    ///   train of separate micro-impacts whose statistics land on the paper's: mean interval
+    ///   inside Table I's 3.1–6.4 ms, impact speeds below Fig. 7's 5 cm/s, and ARMA(1,1)
+    ///   fits a₁ ≈ −0.93, b₁(A) ≈ 0.32 close to Table I. Sweep over β = −1.5 … 0
+    ///   (contact ratio, mean force-peak interval μ_Δ, largest impact speed):
+    ///
+    ///   | relief | contact ratio | μ_Δ | max v_in |
+    ///   |---|---|---|---|
+    ///   | 5 µm | 0.36–0.58 | 2.6–3.4 ms | 1.9–3.3 cm/s |
+    ///   | **10 µm** | 0.24–0.41 | 3.1–4.5 ms | 2.4–4.2 cm/s |
+    ///   | 20 µm | 0.18–0.28 | 4.0–5.4 ms | 3.7–6.8 cm/s |
+    ///   | 50 µm | 0.11–0.19 | 5.4–8.0 ms | 5.8–8.3 cm/s |
+    ///
+    ///   At 5 µm the smooth surfaces keep the ball in contact more than half the time
+    ///   (bounces merge into chatter, intervals below Table I); from 20 µm on, impacts
+    ///   exceed Fig. 7's 5 cm/s. 10 µm is the relief that keeps every roughness inside
+    ///   both the paper's interval range and its impact-speed range.
+    /// - oversample 2 (96 kHz internal): ≥ 78 substeps per impact, energy balance error
+    ///   ≈ 10⁻⁴ of m·g·relief after 10 s, ≈ 50 ns per output sample. At oversample 1 the
+    ///   impact statistics already shift (b₁ of Δ by −0.15, σ_Δ by +20%); 2, 4 and 8 agree
+    ///   within seed-to-seed scatter.
+    fn default() -> Self {
+        Self {
+            sample_rate_hz: 48_000.0,
+            oversample: 2,
+            mass_kg: 0.0329,
+            kappa: 5.0e9,
+            mu_s_per_m: 1.0,
+            gravity_m_s2: GRAVITY_M_S2,
+            radius_m: 0.01,
+            speed_m_s: 0.2,
+            beta: -0.5,
+            relief_m: 10.0e-6,
+            resolution_m: DEFAULT_RESOLUTION_M,
+            corner_wavelength_m: 0.05,
+            asymmetry_m: 0.0,
+            seed: 1,
+        }
+    }
+}
+
+impl PhysicsSettings {
+    /// A copy with every field clamped into its range (non-finite values replaced by the
+    /// default's).
+    pub fn sanitized(&self) -> Self {
+        let d = Self::default();
+        let pos = |x: f64, dflt: f64, lo: f64, hi: f64| {
+            if x.is_finite() {
+                x.clamp(lo, hi)
+            } else {
+                dflt
+            }
+        };
+        Self {
+            sample_rate_hz: crate::sanitize_sample_rate(self.sample_rate_hz),
+            oversample: self.oversample.clamp(1, MAX_OVERSAMPLE),
+            mass_kg: pos(self.mass_kg, d.mass_kg, 1e-6, 1e3),
+            kappa: pos(self.kappa, d.kappa, 1.0, 1e15),
+            mu_s_per_m: pos(self.mu_s_per_m, d.mu_s_per_m, 0.0, 1e3),
+            gravity_m_s2: pos(self.gravity_m_s2, d.gravity_m_s2, 0.0, 1e3),
+            radius_m: pos(self.radius_m, d.radius_m, 1e-4, 1.0),
+            speed_m_s: pos(self.speed_m_s.abs(), d.speed_m_s, 0.0, 20.0),
+            beta: pos(
+                self.beta,
+                d.beta,
+                crate::surface::MIN_BETA,
+                crate::surface::MAX_BETA,
+            ),
+            relief_m: pos(self.relief_m, d.relief_m, 0.0, 1e-3),
+            resolution_m: pos(self.resolution_m, d.resolution_m, 1e-6, 1e-2),
+            corner_wavelength_m: pos(self.corner_wavelength_m, d.corner_wavelength_m, 0.0, 1e3),
+            asymmetry_m: pos(self.asymmetry_m, 0.0, -1.0, 1.0),
+            seed: self.seed,
+        }
+    }
+
+    /// Static compression of the contact under gravity, x_s = (g/κ)^{1/α} (m): compare
+    /// with the relief (DESIGN §7).
+    pub fn static_compression_m(&self) -> f64 {
+        let s = self.sanitized();
+        (s.gravity_m_s2 / s.kappa).powf(1.0 / ALPHA)
+    }
+
+    /// The surface part of these settings.
+    pub fn fractal(&self) -> FractalSettings {
+        FractalSettings {
+            beta: self.beta,
+            relief_m: self.relief_m,
+            resolution_m: self.resolution_m,
+            corner_wavelength_m: self.corner_wavelength_m,
+        }
+    }
+}
+
+/// How well the integration resolves the motion, measured since the last
+/// [`reset`](PhysicsEngine::reset) or [`reset_health`](PhysicsEngine::reset_health).
+///
+/// Rules of thumb for a step that is too coarse: `min_substeps_per_contact` below ≈ 8, or
+/// `energy_error_rel` growing by more than ≈ 10⁻² per second.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PhysicsHealth {
+    /// Simulated time (s).
+    pub elapsed_s: f64,
+    /// Fraction of substeps that end in contact (x > 0).
+    pub contact_ratio: f64,
+    /// Completed contacts (x > 0 at consecutive substep ends) per second that reached at
+    /// least half the static compression (g/κ)^{2/3}: separate impacts.
+    pub impacts_per_s: f64,
+    /// Completed contacts per second shallower than that (grazes; not in the substep
+    /// statistics).
+    pub grazes_per_s: f64,
+    /// Largest penetration x seen (m).
+    pub max_penetration_m: f64,
+    /// Mean length of the impacts (see `impacts_per_s`), in substeps.
+    pub mean_substeps_per_contact: f64,
+    /// Shortest impact, in substeps (0 when none completed): below ≈ 8 the step is too
+    /// coarse for the contact.
+    pub min_substeps_per_contact: u64,
+    /// Mean penetration rate ẋ at the first substep of each impact (m/s): the impact
+    /// velocity v_in of TASLP §IV-D (Fig. 7: below 5 cm/s in the paper's simulations).
+    pub mean_impact_speed_m_s: f64,
+    /// Largest impact velocity (m/s).
+    pub max_impact_speed_m_s: f64,
+    /// Energy balance error E − E₀ − ∫P dt (J): zero for an exact integration.
+    pub energy_error_j: f64,
+    /// `energy_error_j` relative to m_e·g₀·relief (g₀ = 9.81 m/s², a fixed scale: the
+    /// potential energy of one relief height).
+    pub energy_error_rel: f64,
+    /// Modes in use (those below the RK4 stability limit).
+    pub active_modes: usize,
+}
+
+/// Result of [`single_impact`]: one Hunt–Crossley impact on a flat rigid surface (TASLP
+/// §IV-D, eqs 10–11).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SingleImpact {
+    /// Contact duration t₀ (s): first touch to separation (x back to 0), the separation
+    /// located inside the last step by cubic Hermite interpolation of x(t).
+    pub contact_duration_s: f64,
+    /// Largest contact force over the step ends (N).
+    pub peak_force_n: f64,
+    /// Largest penetration over the step ends (m).
+    pub max_penetration_m: f64,
+    /// Normal speed at separation (m/s).
+    pub exit_speed_m_s: f64,
+    /// Coefficient of restitution v_out/v_in.
+    pub restitution: f64,
+    /// RK4 steps taken during the contact.
+    pub steps_in_contact: usize,
+    /// Whether the ball left the surface within 1 s. With gravity and damping, a slow ball
+    /// loses the energy it needs to climb back to x = 0 and stays in contact (captured);
+    /// then `contact_duration_s` is 1 s and the exit speed is the final one.
+    pub separated: bool,
+}
+
+/// Contact acceleration f/m_e and spring term κ·x^α for penetration `x` and penetration
+/// rate `xdot` (TASLP eq 3, divided by m_e).
+#[inline(always)]
+fn contact_accel(kappa: f64, mu: f64, x: f64, xdot: f64) -> (f64, f64) {
+    if x > 0.0 {
+        let spring = kappa * x * x.sqrt();
+        let d = 1.0 + mu * xdot;
+        (if d > 0.0 { spring * d } else { 0.0 }, spring)
+    } else {
+        (0.0, 0.0)
+    }
+}
+
+/// One impact of the ball, dropped with speed `drop_speed_m_s` onto a flat rigid surface,
+/// integrated with the engine's RK4 at 1/(f_s·oversample) (TASLP §IV-D, eqs 10–11: the
+/// contact-time law t₀ = ζ·v_in^−θ).
+///
+/// - `gravity`: include g during the contact (else a weightless ball: pure Hertz/HC).
+/// - `damping`: include the Hunt–Crossley damping μ (else μ = 0; with neither, the
+///   contact is pure Hertz and t₀ ∝ v_in^−1/5 exactly, Chaigne & Doutaut).
+///
+/// The contact starts at x = 0 with ẋ = v_in and ends when x returns to 0 (at most 1 s of
+/// simulated contact). Allocation-free.
+pub fn single_impact(
+    settings: &PhysicsSettings,
+    drop_speed_m_s: f64,
+    gravity: bool,
+    damping: bool,
+) -> SingleImpact {
+    let s = settings.sanitized();
+    let h = 1.0 / (s.sample_rate_hz * s.oversample as f64);
+    let g = if gravity { s.gravity_m_s2 } else { 0.0 };
+    let mu = if damping { s.mu_s_per_m } else { 0.0 };
+    let kappa = s.kappa;
+    let v_in = if drop_speed_m_s.is_finite() {
+        drop_speed_m_s.abs().max(1e-9)
+    } else {
+        1e-9
+    };
+    // Penetration x (down positive) and its rate v: ẍ = g − f/m_e.
+    let acc = |x: f64, v: f64| g - contact_accel(kappa, mu, x, v).0;
+    let mut x = 0.0f64;
+    let mut v = v_in;
+    let mut a = acc(x, v);
+    let mut t = 0.0f64;
+    let mut peak_acc = 0.0f64;
+    let mut max_x = 0.0f64;
+    let max_steps = (1.0 / h) as usize;
+    let mut steps = 0usize;
+    let hh = 0.5 * h;
+    let (mut t_end, mut v_end) = (f64::NAN, f64::NAN);
+    while steps < max_steps {
+        let k1x = v;
+        let k1v = a;
+        let k2x = v + hh * k1v;
+        let k2v = acc(x + hh * k1x, k2x);
+        let k3x = v + hh * k2v;
+        let k3v = acc(x + hh * k2x, k3x);
+        let k4x = v + h * k3v;
+        let k4v = acc(x + h * k3x, k4x);
+        let x1 = x + h / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x);
+        let v1 = v + h / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
+        steps += 1;
+        if x1 <= 0.0 {
+            // Separation inside this step: root of the cubic Hermite through (x, v), (x1, v1).
+            let herm = |tau: f64| {
+                let s = tau / h;
+                let s2 = s * s;
+                let s3 = s2 * s;
+                (2.0 * s3 - 3.0 * s2 + 1.0) * x
+                    + (s3 - 2.0 * s2 + s) * h * v
+                    + (-2.0 * s3 + 3.0 * s2) * x1
+                    + (s3 - s2) * h * v1
+            };
+            let (mut lo, mut hi) = (0.0f64, h);
+            for _ in 0..60 {
+                let mid = 0.5 * (lo + hi);
+                if herm(mid) > 0.0 {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            let tau = 0.5 * (lo + hi);
+            let sx = tau / h;
+            // Hermite derivative at tau.
+            let dh = (6.0 * sx * sx - 6.0 * sx) * x / h
+                + (3.0 * sx * sx - 4.0 * sx + 1.0) * v
+                + (-6.0 * sx * sx + 6.0 * sx) * x1 / h
+                + (3.0 * sx * sx - 2.0 * sx) * v1;
+            t_end = t + tau;
+            v_end = -dh;
+            break;
+        }
+        x = x1;
+        v = v1;
+        t += h;
+        a = acc(x, v);
+        let f = contact_accel(kappa, mu, x, v).0;
+        peak_acc = peak_acc.max(f);
+        max_x = max_x.max(x);
+    }
+    let separated = t_end.is_finite();
+    if !separated {
+        t_end = t;
+        v_end = -v;
+    }
+    SingleImpact {
+        contact_duration_s: t_end,
+        peak_force_n: peak_acc * s.mass_kg,
+        max_penetration_m: max_x,
+        exit_speed_m_s: v_end,
+        restitution: v_end / v_in,
+        steps_in_contact: steps,
+        separated,
+    }
+}
+
+/// Health accumulators.
+#[derive(Clone, Copy, Debug, Default)]
+struct HealthAcc {
+    substeps: u64,
+    contact_substeps: u64,
+    grazes: u64,
+    runs: u64,
+    run_sum: u64,
+    run_min: u64,
+    cur_run: u64,
+    cur_run_depth_m: f64,
+    cur_run_speed_m_s: f64,
+    speed_sum_m_s: f64,
+    max_speed_m_s: f64,
+    max_pen_m: f64,
+    /// Energy per unit ball mass at the start (J/kg).
+    e0: f64,
+    /// Work integral per unit ball mass at the start (J/kg).
+    w0: f64,
+}
+
+/// The ball rolling on the surface: fractal profile → rolling filter → Hunt–Crossley
+/// contact, RK4 (TASLP §II-A eqs 2–3, §III; Rath 2003 §2–5). See the module docs.
+///
+/// - output: the contact force f(t) (N) per output sample ([`process`](Self::process)),
+///   optionally the object's contact-point velocity Σẇ_i (m/s)
+///   ([`process_with_object`](Self::process_with_object));
+/// - settings: [`PhysicsSettings`]; modes: [`set_modes`](Self::set_modes).
+///
+/// # Allocation
+/// `new` allocates the rolling filter's rings (for a window up to
+/// [`MAX_HALF_WIDTH`] samples) and the modal arrays ([`MAX_MODES`]); no other method
+/// allocates.
+#[derive(Clone, Debug)]
+pub struct PhysicsEngine {
+    settings: PhysicsSettings,
+    // Derived.
+    dt_s: f64,
+    inv_oversample: f64,
+    /// Surface samples travelled per substep (v·h/Δ).
+    dp: f64,
+    speed_over_res: f64,
+    asym_amp: f64,
+    asym_omega: f64,
+    asym_rot_c: f64,
+    asym_rot_s: f64,
+    asym_c: f64,
+    asym_s: f64,
+    // Surface.
+    profile: FractalProfile,
+    filter: RollingFilter,
+    pos_index: i64,
+    pos_frac: f64,
+    seg_index: i64,
+    seg_h0: f64,
+    seg_h1: f64,
+    // Ball (per unit mass where relevant).
+    y_m: f64,
+    u_m_s: f64,
+    work: f64,
+    // Cached end-of-step evaluation (first stage of the next step).
+    cur_h: f64,
+    cur_vh: f64,
+    cur_ac: f64,
+    cur_spring: f64,
+    cur_x: f64,
+    cur_sum_w: f64,
+    cur_sum_wd: f64,
+    cur_diss: f64,
+    // Modes: the requested list and the active arrays (structure of arrays).
+    mode_spec: Vec<(f64, f64, f64)>,
+    n_modes: usize,
+    m_om2: Vec<f64>,
+    m_damp: Vec<f64>,
+    /// m_e / m_i.
+    m_beta: Vec<f64>,
+    m_w: Vec<f64>,
+    m_wd: Vec<f64>,
+    m_ws: Vec<f64>,
+    m_wds: Vec<f64>,
+    m_aw: Vec<f64>,
+    m_awd: Vec<f64>,
+    // Bookkeeping.
+    health: HealthAcc,
+    /// Contacts shallower than this are grazes, not impacts (half the static compression).
+    graze_depth_m: f64,
+    sample_counter: u64,
+}
+
+impl PhysicsEngine {
+    /// A rolling ball with `settings` on a rigid surface, at rest at its static equilibrium
+    /// on the offset curve.
+    ///
+    /// # Allocation
+    /// Allocates the rolling filter's rings and the modal arrays (see the type docs).
+    pub fn new(settings: &PhysicsSettings) -> Self {
+        let s = settings.sanitized();
+        let profile = FractalProfile::new(&s.fractal(), s.seed);
+        let filter = RollingFilter::new(s.radius_m, s.relief_m, s.resolution_m, MAX_HALF_WIDTH);
+        let z = || vec![0.0f64; MAX_MODES];
+        let mut e = Self {
+            settings: s,
+            dt_s: 0.0,
+            inv_oversample: 1.0,
+            dp: 0.0,
+            speed_over_res: 0.0,
+            asym_amp: 0.0,
+            asym_omega: 0.0,
+            asym_rot_c: 1.0,
+            asym_rot_s: 0.0,
+            asym_c: 1.0,
+            asym_s: 0.0,
+            profile,
+            filter,
+            pos_index: 0,
+            pos_frac: 0.0,
+            seg_index: i64::MIN,
+            seg_h0: 0.0,
+            seg_h1: 0.0,
+            y_m: 0.0,
+            u_m_s: 0.0,
+            work: 0.0,
+            cur_h: 0.0,
+            cur_vh: 0.0,
+            cur_ac: 0.0,
+            cur_spring: 0.0,
+            cur_x: 0.0,
+            cur_sum_w: 0.0,
+            cur_sum_wd: 0.0,
+            cur_diss: 0.0,
+            mode_spec: Vec::with_capacity(MAX_MODES),
+            n_modes: 0,
+            m_om2: z(),
+            m_damp: z(),
+            m_beta: z(),
+            m_w: z(),
+            m_wd: z(),
+            m_ws: z(),
+            m_wds: z(),
+            m_aw: z(),
+            m_awd: z(),
+            health: HealthAcc::default(),
+            graze_depth_m: 0.0,
+            sample_counter: 0,
+        };
+        e.apply_settings(&s, true);
+        e.reset();
+        e
+    }
+
+    /// A rolling ball coupled to a modal object given as (freq_hz, decay_s, mass_kg)
+    /// triples (TASLP eq 2); see [`set_modes`](Self::set_modes).
+    ///
+    /// # Allocation
+    /// As [`new`](Self::new).
+    pub fn with_modes(settings: &PhysicsSettings, modes: &[(f64, f64, f64)]) -> Self {
+        let mut e = Self::new(settings);
+        e.set_modes(modes);
+        e
+    }
+
+    /// The settings in use (sanitized).
+    pub fn settings(&self) -> &PhysicsSettings {
+        &self.settings
+    }
+
+    /// RK4 step h = 1/(f_s·oversample) (s).
+    pub fn time_step_s(&self) -> f64 {
+        self.dt_s
+    }
+
+    /// Rolling-filter half-width W in surface samples (Rath 2003 §3).
+    pub fn rolling_half_width(&self) -> usize {
+        self.filter.half_width()
+    }
+
+    /// Apply new settings. Real-time safe; the state (ball, surface position, modes) is kept,
+    /// so speed, radius, roughness and relief can be automated. A new `seed` takes effect at
+    /// the next [`reset`](Self::reset). Costs one [`FractalProfile::set_settings`] when β,
+    /// relief, resolution or corner changed.
+    pub fn set_settings(&mut self, settings: &PhysicsSettings) {
+        let s = settings.sanitized();
+        self.apply_settings(&s, false);
+    }
+
+    /// Change the output sample rate (Hz). Real-time safe (nothing is sized by it).
+    pub fn set_sample_rate(&mut self, sample_rate_hz: f64) {
+        let mut s = self.settings;
+        s.sample_rate_hz = sample_rate_hz;
+        self.set_settings(&s);
+    }
+
+    /// Change the rolling speed v (m/s) (TASLP §II-A). Real-time safe and cheap.
+    pub fn set_speed_m_s(&mut self, speed_m_s: f64) {
+        let mut s = self.settings;
+        s.speed_m_s = speed_m_s;
+        self.set_settings(&s);
+    }
+
+    fn apply_settings(&mut self, s: &PhysicsSettings, force: bool) {
+        let old = self.settings;
+        self.settings = *s;
+        let fractal_changed = force
+            || old.beta != s.beta
+            || old.relief_m != s.relief_m
+            || old.resolution_m != s.resolution_m
+            || old.corner_wavelength_m != s.corner_wavelength_m;
+        if fractal_changed {
+            self.profile.set_settings(&s.fractal());
+        }
+        self.profile.set_seed(s.seed);
+        let geometry_changed = force
+            || old.radius_m != s.radius_m
+            || old.relief_m != s.relief_m
+            || old.resolution_m != s.resolution_m;
+        if geometry_changed {
+            self.filter
+                .set_geometry(s.radius_m, s.relief_m, s.resolution_m);
+            self.seg_index = i64::MIN;
+        }
+        let rate_changed =
+            force || old.sample_rate_hz != s.sample_rate_hz || old.oversample != s.oversample;
+        self.dt_s = 1.0 / (s.sample_rate_hz * s.oversample as f64);
+        self.inv_oversample = 1.0 / s.oversample as f64;
+        self.speed_over_res = s.speed_m_s / s.resolution_m;
+        self.dp = self.speed_over_res * self.dt_s;
+        let omega = s.speed_m_s / s.radius_m;
+        self.asym_omega = omega;
+        self.asym_amp = s.asymmetry_m * omega * omega;
+        self.graze_depth_m = 0.5 * (s.gravity_m_s2 / s.kappa).powf(1.0 / ALPHA);
+        let half = 0.5 * omega * self.dt_s;
+        self.asym_rot_c = half.cos();
+        self.asym_rot_s = half.sin();
+        if rate_changed && !force {
+            self.rebuild_modes(false);
+        }
+        if !force {
+            self.refresh_current();
+        }
+    }
+
+    /// Couple the ball to a modal object (TASLP eq 2): each (freq_hz, decay_s, mass_kg) is
+    /// one mass–spring–damper mode, ω = 2π·freq, g = 2/decay (decay = 1/e time of the
+    /// amplitude), driven by −f at the contact point. An empty slice restores the rigid
+    /// surface. At most [`MAX_MODES`] are kept; modes with non-positive or non-finite values,
+    /// or with ω·h > [`MODE_STABILITY_LIMIT`], are skipped. The modes start at their static
+    /// deflection under the current contact force.
+    ///
+    /// Real-time safe: copies into arrays preallocated by `new` (no allocation).
+    pub fn set_modes(&mut self, modes: &[(f64, f64, f64)]) {
+        self.mode_spec.clear();
+        for &m in modes.iter().take(MAX_MODES) {
+            self.mode_spec.push(m);
+        }
+        let old_sum: f64 = self.m_w[..self.n_modes].iter().sum();
+        self.rebuild_modes(true);
+        let new_sum: f64 = self.m_w[..self.n_modes].iter().sum();
+        // Keep the penetration (and so the contact force) continuous.
+        self.y_m += new_sum - old_sum;
+        self.refresh_current();
+        self.reset_health();
+    }
+
+    fn rebuild_modes(&mut self, restart: bool) {
+        let h = self.dt_s;
+        let me = self.settings.mass_kg;
+        let mut n = 0;
+        for &(f, tau, m) in &self.mode_spec {
+            let valid = f.is_finite() && tau.is_finite() && m.is_finite();
+            if !valid || f <= 0.0 || tau <= 0.0 || m <= 0.0 {
+                continue;
+            }
+            let om = core::f64::consts::TAU * f;
+            if om * h > MODE_STABILITY_LIMIT {
+                continue;
+            }
+            self.m_om2[n] = om * om;
+            self.m_damp[n] = 2.0 / tau;
+            self.m_beta[n] = me / m;
+            n += 1;
+        }
+        if restart || n != self.n_modes {
+            // Static deflection under the current contact force.
+            let ac = self.cur_ac;
+            for i in 0..n {
+                self.m_w[i] = -ac * self.m_beta[i] / self.m_om2[i];
+                self.m_wd[i] = 0.0;
+            }
+        }
+        self.n_modes = n;
+    }
+
+    /// Restore the state after `new`: reseed and restart the surface at position 0, the
+    /// ball at rest at its static equilibrium (x = (g/κ)^{2/3}) on the offset curve, the
+    /// modes at their static deflection, the asymmetry phase at 0, the health counters
+    /// cleared. Real-time safe.
+    pub fn reset(&mut self) {
+        self.profile.reset();
+        self.filter.reset();
+        self.pos_index = 0;
+        self.pos_frac = 0.0;
+        self.seg_index = i64::MIN;
+        self.asym_c = 1.0;
+        self.asym_s = 0.0;
+        self.sample_counter = 0;
+        self.work = 0.0;
+        let s = self.settings;
+        let x_s = (s.gravity_m_s2 / s.kappa).powf(1.0 / ALPHA);
+        let a_static = s.gravity_m_s2;
+        for i in 0..self.n_modes {
+            self.m_w[i] = -a_static * self.m_beta[i] / self.m_om2[i];
+            self.m_wd[i] = 0.0;
+        }
+        let sum_w: f64 = self.m_w[..self.n_modes].iter().sum();
+        let (h0, _) = self.surface_at(0.0);
+        self.y_m = h0 + sum_w - x_s;
+        self.u_m_s = 0.0;
+        self.refresh_current();
+        self.reset_health();
+    }
+
+    /// Restart the health measurement from the current state.
+    pub fn reset_health(&mut self) {
+        self.health = HealthAcc {
+            run_min: u64::MAX,
+            e0: self.energy_per_kg(),
+            w0: self.work,
+            ..HealthAcc::default()
+        };
+        if self.cur_x > 0.0 {
+            self.health.cur_run = 1;
+            self.health.cur_run_depth_m = self.cur_x;
+        }
+    }
+
+    /// Energy per unit ball mass (J/kg): kinetic + gravity + contact spring + modes.
+    fn energy_per_kg(&self) -> f64 {
+        let s = &self.settings;
+        let u = self.u_m_s;
+        let mut e = 0.5 * u * u + s.gravity_m_s2 * self.y_m;
+        let x = self.cur_x;
+        if x > 0.0 {
+            e += s.kappa * x * x * x.sqrt() / (ALPHA + 1.0);
+        }
+        for i in 0..self.n_modes {
+            let wd = self.m_wd[i];
+            let w = self.m_w[i];
+            e += 0.5 * (wd * wd + self.m_om2[i] * w * w) / self.m_beta[i];
+        }
+        e
+    }
+
+    /// The health report since the last reset (see [`PhysicsHealth`]).
+    pub fn health(&self) -> PhysicsHealth {
+        let hc = &self.health;
+        let s = &self.settings;
+        let elapsed = hc.substeps as f64 * self.dt_s;
+        let err = (self.energy_per_kg() - hc.e0 - (self.work - hc.w0)) * s.mass_kg;
+        let scale = s.mass_kg * GRAVITY_M_S2 * s.relief_m.max(1e-12);
+        PhysicsHealth {
+            elapsed_s: elapsed,
+            contact_ratio: if hc.substeps > 0 {
+                hc.contact_substeps as f64 / hc.substeps as f64
+            } else {
+                0.0
+            },
+            impacts_per_s: if elapsed > 0.0 {
+                hc.runs as f64 / elapsed
+            } else {
+                0.0
+            },
+            grazes_per_s: if elapsed > 0.0 {
+                hc.grazes as f64 / elapsed
+            } else {
+                0.0
+            },
+            max_penetration_m: hc.max_pen_m,
+            mean_substeps_per_contact: if hc.runs > 0 {
+                hc.run_sum as f64 / hc.runs as f64
+            } else {
+                0.0
+            },
+            min_substeps_per_contact: if hc.runs > 0 { hc.run_min } else { 0 },
+            mean_impact_speed_m_s: if hc.runs > 0 {
+                hc.speed_sum_m_s / hc.runs as f64
+            } else {
+                0.0
+            },
+            max_impact_speed_m_s: hc.max_speed_m_s,
+            energy_error_j: err,
+            energy_error_rel: err / scale,
+            active_modes: self.n_modes,
+        }
+    }
+
+    /// Visit every value of the recursive state (ball, work integral, modes, cached contact
+    /// evaluation): for tests that check the state holds no subnormal or non-finite number.
+    pub fn for_each_state_value(&self, mut visit: impl FnMut(f64)) {
+        for v in [
+            self.y_m,
+            self.u_m_s,
+            self.work,
+            self.cur_h,
+            self.cur_vh,
+            self.cur_ac,
+            self.cur_spring,
+            self.cur_x,
+            self.cur_sum_w,
+            self.cur_sum_wd,
+            self.cur_diss,
+            self.pos_frac,
+            self.asym_c,
+            self.asym_s,
+        ] {
+            visit(v);
+        }
+        for i in 0..self.n_modes {
+            visit(self.m_w[i]);
+            visit(self.m_wd[i]);
+        }
+    }
+
+    /// Current penetration x (m); positive in contact.
+    pub fn penetration_m(&self) -> f64 {
+        self.cur_x
+    }
+
+    /// Distance rolled since the last reset (m).
+    pub fn position_m(&self) -> f64 {
+        (self.pos_index as f64 + self.pos_frac) * self.settings.resolution_m
+    }
+
+    /// The offset curve at segment `i` and `i + 1`, cached.
+    #[inline]
+    fn ensure_segment(&mut self, i: i64) {
+        if i == self.seg_index {
+            return;
+        }
+        if i == self.seg_index.wrapping_add(1) {
+            self.seg_h0 = self.seg_h1;
+            self.seg_h1 = self.offset_at_index(i + 1);
+        } else {
+            self.seg_h0 = self.offset_at_index(i);
+            self.seg_h1 = self.offset_at_index(i + 1);
+        }
+        self.seg_index = i;
+    }
+
+    #[inline]
+    fn offset_at_index(&mut self, i: i64) -> f64 {
+        let need = i + self.filter.half_width() as i64;
+        while self.filter.newest_index() < need {
+            let s = self.profile.next_height_m();
+            self.filter.push(s);
+        }
+        self.filter.offset_m(i)
+    }
+
+    /// Offset curve h (m) and its time derivative ḣ (m/s) at `frac` ∈ [0, 1) surface
+    /// samples ahead of the current integer position.
+    #[inline]
+    fn surface_at(&mut self, frac: f64) -> (f64, f64) {
+        let k = frac.floor();
+        let i = self.pos_index + k as i64;
+        let t = frac - k;
+        self.ensure_segment(i);
+        let dh = self.seg_h1 - self.seg_h0;
+        (self.seg_h0 + t * dh, self.speed_over_res * dh)
+    }
+
+    /// Recompute the cached end-of-step evaluation from the current state (after a
+    /// settings change or a reset), including the modal sums.
+    fn refresh_current(&mut self) {
+        let n = self.n_modes;
+        let mut sw = 0.0;
+        let mut swd = 0.0;
+        let mut diss = 0.0;
+        for i in 0..n {
+            sw += self.m_w[i];
+            swd += self.m_wd[i];
+            diss += self.m_damp[i] * self.m_wd[i] * self.m_wd[i] / self.m_beta[i];
+        }
+        self.cur_sum_w = sw;
+        self.cur_sum_wd = swd;
+        self.cur_diss = diss;
+        self.evaluate_current();
+    }
+
+    /// Re-evaluate the cached contact at the current state and surface segment (the modal
+    /// sums in the cache are still valid): after a step ends on a grid point, where the
+    /// slope of the offset curve changes.
+    #[inline]
+    fn evaluate_current(&mut self) {
+        let (h, vh) = self.surface_at(self.pos_frac);
+        let x = h + self.cur_sum_w - self.y_m;
+        let (ac, sp) = contact_accel(
+            self.settings.kappa,
+            self.settings.mu_s_per_m,
+            x,
+            vh + self.cur_sum_wd - self.u_m_s,
+        );
+        self.cur_h = h;
+        self.cur_vh = vh;
+        self.cur_ac = ac;
+        self.cur_spring = sp;
+        self.cur_x = x;
+    }
+
+    /// Asymmetry acceleration at the start, middle and end of the next `tau` seconds;
+    /// advances the phasor (Rath 2003 §5).
+    #[inline(always)]
+    fn asymmetry_stages(&mut self, tau: f64, full: bool) -> (f64, f64, f64) {
+        if self.asym_amp == 0.0 {
+            return (0.0, 0.0, 0.0);
+        }
+        let (rs, rc) = if full {
+            (self.asym_rot_s, self.asym_rot_c)
+        } else {
+            (0.5 * self.asym_omega * tau).sin_cos()
+        };
+        let (c0, s0) = (self.asym_c, self.asym_s);
+        let cm = c0 * rc - s0 * rs;
+        let sm = s0 * rc + c0 * rs;
+        let c1 = cm * rc - sm * rs;
+        let s1 = sm * rc + cm * rs;
+        self.asym_c = c1;
+        self.asym_s = s1;
+        (self.asym_amp * s0, self.asym_amp * sm, self.asym_amp * s1)
+    }
+
+    #[inline(always)]
+    fn track_health(&mut self, x: f64, xdot: f64) {
+        let hc = &mut self.health;
+        hc.substeps += 1;
+        if x > 0.0 {
+            hc.contact_substeps += 1;
+            if hc.cur_run == 0 {
+                hc.cur_run_speed_m_s = xdot;
+            }
+            hc.cur_run += 1;
+            if x > hc.cur_run_depth_m {
+                hc.cur_run_depth_m = x;
+            }
+            if x > hc.max_pen_m {
+                hc.max_pen_m = x;
+            }
+        } else if hc.cur_run > 0 {
+            if hc.cur_run_depth_m >= self.graze_depth_m {
+                hc.runs += 1;
+                hc.run_sum += hc.cur_run;
+                hc.run_min = hc.run_min.min(hc.cur_run);
+                hc.speed_sum_m_s += hc.cur_run_speed_m_s;
+                hc.max_speed_m_s = hc.max_speed_m_s.max(hc.cur_run_speed_m_s);
+            } else {
+                hc.grazes += 1;
+            }
+            hc.cur_run = 0;
+            hc.cur_run_depth_m = 0.0;
+        }
+    }
+
+    /// One RK4 step of `tau` seconds on a rigid surface, travelling `dfrac` surface samples
+    /// inside the current segment of the offset curve (so h is linear over the step).
+    /// Stage 1 is the cached end-of-step evaluation (FSAL).
+    #[inline(always)]
+    fn rk4_rigid(&mut self, tau: f64, dfrac: f64, a0: f64, am: f64, a1: f64) {
+        let hh = 0.5 * tau;
+        let kappa = self.settings.kappa;
+        let mu = self.settings.mu_s_per_m;
+        let g = self.settings.gravity_m_s2;
+        let y0 = self.y_m;
+        let u0 = self.u_m_s;
+        let dh = self.seg_h1 - self.seg_h0;
+        let vh = self.speed_over_res * dh;
+        let hm = self.seg_h0 + (self.pos_frac + 0.5 * dfrac) * dh;
+        let he = self.seg_h0 + (self.pos_frac + dfrac) * dh;
+        // Stage 1.
+        let (ac1, sp1) = (self.cur_ac, self.cur_spring);
+        let acc1 = ac1 + a0 - g;
+        let p1 = u0 * (ac1 + a0) + sp1 * (vh - u0);
+        // Stages 2 and 3: middle of the step.
+        let y2 = y0 + hh * u0;
+        let u2 = u0 + hh * acc1;
+        let (ac2, sp2) = contact_accel(kappa, mu, hm - y2, vh - u2);
+        let acc2 = ac2 + am - g;
+        let p2 = u2 * (ac2 + am) + sp2 * (vh - u2);
+        let y3 = y0 + hh * u2;
+        let u3 = u0 + hh * acc2;
+        let (ac3, sp3) = contact_accel(kappa, mu, hm - y3, vh - u3);
+        let acc3 = ac3 + am - g;
+        let p3 = u3 * (ac3 + am) + sp3 * (vh - u3);
+        // Stage 4: end of the step.
+        let y4 = y0 + tau * u3;
+        let u4 = u0 + tau * acc3;
+        let (ac4, sp4) = contact_accel(kappa, mu, he - y4, vh - u4);
+        let acc4 = ac4 + a1 - g;
+        let p4 = u4 * (ac4 + a1) + sp4 * (vh - u4);
+        let h6 = tau / 6.0;
+        let y = y0 + h6 * (u0 + 2.0 * (u2 + u3) + u4);
+        let u = u0 + h6 * (acc1 + 2.0 * (acc2 + acc3) + acc4);
+        self.work += h6 * (p1 + 2.0 * (p2 + p3) + p4);
+        self.y_m = y;
+        self.u_m_s = u;
+        self.pos_frac += dfrac;
+        // End-of-step evaluation (FSAL).
+        let x = he - y;
+        let (ac, sp) = contact_accel(kappa, mu, x, vh - u);
+        self.cur_h = he;
+        self.cur_vh = vh;
+        self.cur_ac = ac;
+        self.cur_spring = sp;
+        self.cur_x = x;
+    }
+
+    /// One modal stage: derivatives of the modes at the stage state (`m_ws`, `m_wds`, or
+    /// the step start when `first`), accumulated with `weight`, and the next stage state
+    /// at `next_c` from the step start. Returns (Σw, Σẇ, dissipation) of the next state.
+    #[inline(always)]
+    fn modal_stage(&mut self, ac: f64, weight: f64, next_c: f64, first: bool) -> (f64, f64, f64) {
+        let n = self.n_modes;
+        let (mut sw, mut swd, mut diss) = (0.0, 0.0, 0.0);
+        let w0 = &self.m_w[..n];
+        let wd0 = &self.m_wd[..n];
+        let om2 = &self.m_om2[..n];
+        let damp = &self.m_damp[..n];
+        let beta = &self.m_beta[..n];
+        let ws = &mut self.m_ws[..n];
+        let wds = &mut self.m_wds[..n];
+        let aw = &mut self.m_aw[..n];
+        let awd = &mut self.m_awd[..n];
+        for i in 0..n {
+            let (w, wd) = if first {
+                (w0[i], wd0[i])
+            } else {
+                (ws[i], wds[i])
+            };
+            let dw = wd;
+            let dwd = -damp[i] * wd - om2[i] * w - ac * beta[i];
+            if first {
+                aw[i] = dw;
+                awd[i] = dwd;
+            } else {
+                aw[i] += weight * dw;
+                awd[i] += weight * dwd;
+            }
+            let nw = w0[i] + next_c * dw;
+            let nwd = wd0[i] + next_c * dwd;
+            ws[i] = nw;
+            wds[i] = nwd;
+            sw += nw;
+            swd += nwd;
+            diss += damp[i] * nwd * nwd / beta[i];
+        }
+        (sw, swd, diss)
+    }
+
+    /// As [`rk4_rigid`](Self::rk4_rigid), with the modal object.
+    fn rk4_modal(&mut self, tau: f64, dfrac: f64, a0: f64, am: f64, a1: f64) {
+        let hh = 0.5 * tau;
+        let kappa = self.settings.kappa;
+        let mu = self.settings.mu_s_per_m;
+        let g = self.settings.gravity_m_s2;
+        let y0 = self.y_m;
+        let u0 = self.u_m_s;
+        let dh = self.seg_h1 - self.seg_h0;
+        let vh = self.speed_over_res * dh;
+        let hm = self.seg_h0 + (self.pos_frac + 0.5 * dfrac) * dh;
+        let he = self.seg_h0 + (self.pos_frac + dfrac) * dh;
+        // Stage 1.
+        let ac1 = self.cur_ac;
+        let xd1 = vh + self.cur_sum_wd - u0;
+        let acc1 = ac1 + a0 - g;
+        let p1 = u0 * (ac1 + a0) + self.cur_spring * xd1 - ac1 * self.cur_sum_wd - self.cur_diss;
+        let (sw2, swd2, diss2) = self.modal_stage(ac1, 1.0, hh, true);
+        // Stage 2.
+        let y2 = y0 + hh * u0;
+        let u2 = u0 + hh * acc1;
+        let xd2 = vh + swd2 - u2;
+        let (ac2, sp2) = contact_accel(kappa, mu, hm + sw2 - y2, xd2);
+        let acc2 = ac2 + am - g;
+        let p2 = u2 * (ac2 + am) + sp2 * xd2 - ac2 * swd2 - diss2;
+        let (sw3, swd3, diss3) = self.modal_stage(ac2, 2.0, hh, false);
+        // Stage 3.
+        let y3 = y0 + hh * u2;
+        let u3 = u0 + hh * acc2;
+        let xd3 = vh + swd3 - u3;
+        let (ac3, sp3) = contact_accel(kappa, mu, hm + sw3 - y3, xd3);
+        let acc3 = ac3 + am - g;
+        let p3 = u3 * (ac3 + am) + sp3 * xd3 - ac3 * swd3 - diss3;
+        let (sw4, swd4, diss4) = self.modal_stage(ac3, 2.0, tau, false);
+        // Stage 4.
+        let y4 = y0 + tau * u3;
+        let u4 = u0 + tau * acc3;
+        let xd4 = vh + swd4 - u4;
+        let (ac4, sp4) = contact_accel(kappa, mu, he + sw4 - y4, xd4);
+        let acc4 = ac4 + a1 - g;
+        let p4 = u4 * (ac4 + a1) + sp4 * xd4 - ac4 * swd4 - diss4;
+        // Combine.
+        let h6 = tau / 6.0;
+        let n = self.n_modes;
+        let (mut sw, mut swd, mut diss) = (0.0, 0.0, 0.0);
+        for i in 0..n {
+            let wd4 = self.m_wds[i];
+            let dwd4 = -self.m_damp[i] * wd4 - self.m_om2[i] * self.m_ws[i] - ac4 * self.m_beta[i];
+            let w = self.m_w[i] + h6 * (self.m_aw[i] + wd4);
+            let wd = self.m_wd[i] + h6 * (self.m_awd[i] + dwd4);
+            self.m_w[i] = w;
+            self.m_wd[i] = wd;
+            sw += w;
+            swd += wd;
+            diss += self.m_damp[i] * wd * wd / self.m_beta[i];
+        }
+        let y = y0 + h6 * (u0 + 2.0 * (u2 + u3) + u4);
+        let u = u0 + h6 * (acc1 + 2.0 * (acc2 + acc3) + acc4);
+        self.work += h6 * (p1 + 2.0 * (p2 + p3) + p4);
+        self.y_m = y;
+        self.u_m_s = u;
+        self.pos_frac += dfrac;
+        let x = he + sw - y;
+        let (ac, sp) = contact_accel(kappa, mu, x, vh + swd - u);
+        self.cur_h = he;
+        self.cur_vh = vh;
+        self.cur_ac = ac;
+        self.cur_spring = sp;
+        self.cur_x = x;
+        self.cur_sum_w = sw;
+        self.cur_sum_wd = swd;
+        self.cur_diss = diss;
+    }
+
+    #[inline(always)]
+    fn rk4(&mut self, tau: f64, dfrac: f64, full: bool) {
+        let (a0, am, a1) = self.asymmetry_stages(tau, full);
+        if self.n_modes == 0 {
+            self.rk4_rigid(tau, dfrac, a0, am, a1);
+        } else {
+            self.rk4_modal(tau, dfrac, a0, am, a1);
+        }
+    }
+
+    /// One substep of h = 1/(f_s·oversample). The offset curve is piecewise linear, its
+    /// slope jumps at every surface sample; a substep that crosses one is split there into
+    /// RK4 steps that each see a linear h(t), so the kinks do not degrade RK4's order (at
+    /// 20 cm/s and 96 kHz about one substep in 48 is split).
+    #[inline(always)]
+    fn substep(&mut self) {
+        let h = self.dt_s;
+        let dp = self.dp;
+        if self.pos_frac + dp < 1.0 {
+            self.rk4(h, dp, true);
+        } else {
+            let mut t_left = h;
+            let mut p_left = dp;
+            loop {
+                let room = 1.0 - self.pos_frac;
+                if p_left < room {
+                    self.rk4(t_left, p_left, false);
+                    break;
+                }
+                let tau = (h * room / dp).min(t_left);
+                self.rk4(tau, room, false);
+                self.pos_index += 1;
+                self.pos_frac = 0.0;
+                self.ensure_segment(self.pos_index);
+                self.evaluate_current();
+                t_left -= tau;
+                p_left -= room;
+                if p_left <= 0.0 || t_left <= 0.0 {
+                    break;
+                }
+            }
+        }
+        let xdot = self.cur_vh + self.cur_sum_wd - self.u_m_s;
+        self.track_health(self.cur_x, xdot);
+    }
+
+    /// Flush tiny state to zero every 64 samples (by the internal sample counter, so the
+    /// output does not depend on block sizes).
+    #[inline]
+    fn maybe_flush(&mut self) {
+        self.sample_counter = self.sample_counter.wrapping_add(1);
+        if self.sample_counter & 63 != 0 {
+            return;
+        }
+        if self.u_m_s.abs() < STATE_FLUSH {
+            self.u_m_s = 0.0;
+        }
+        for i in 0..self.n_modes {
+            if self.m_w[i].abs() < STATE_FLUSH {
+                self.m_w[i] = 0.0;
+            }
+            if self.m_wd[i].abs() < STATE_FLUSH {
+                self.m_wd[i] = 0.0;
+            }
+        }
+        // Keep the asymmetry phasor on the unit circle.
+        let m2 = self.asym_c * self.asym_c + self.asym_s * self.asym_s;
+        let k = 1.5 - 0.5 * m2;
+        self.asym_c *= k;
+        self.asym_s *= k;
+    }
+
+    #[inline(always)]
+    fn one_sample(&mut self) -> f32 {
+        let mut acc = 0.0;
+        for _ in 0..self.settings.oversample {
+            self.substep();
+            acc += self.cur_ac;
+        }
+        self.maybe_flush();
+        let f = (acc * self.inv_oversample * self.settings.mass_kg) as f32;
+        if f.abs() < crate::FLUSH_THRESHOLD || !f.is_finite() {
+            0.0
+        } else {
+            f
+        }
+    }
+
+    /// Render the contact force f(t) (N), one value per output sample (the mean over the
+    /// substeps of the sample, see the module docs). Real-time safe; the output does not
+    /// depend on how the samples are split into blocks.
+    pub fn process(&mut self, force_n: &mut [f32]) {
+        for out in force_n {
+            *out = self.one_sample();
+        }
+    }
+
+    /// As [`process`](Self::process), and also the object's velocity at the contact point,
+    /// Σ ẇ_i (m/s) at each sample instant — the sound radiated by the modes (TASLP eq 2);
+    /// zeros on a rigid surface. Renders `min(force_n.len(), object_velocity_m_s.len())`
+    /// samples. Real-time safe.
+    pub fn process_with_object(&mut self, force_n: &mut [f32], object_velocity_m_s: &mut [f32]) {
+        for (f, v) in force_n.iter_mut().zip(object_velocity_m_s.iter_mut()) {
+            *f = self.one_sample();
+            let s = self.cur_sum_wd as f32;
+            *v = if s.abs() < crate::FLUSH_THRESHOLD {
+                0.0
+            } else {
+                s
+            };
+        }
+    }
+}
+
+/// Offset-curve window (surface samples) a settings set needs, for sizing (Rath 2003 §3).
+pub fn half_width_for(settings: &PhysicsSettings) -> usize {
+    let s = settings.sanitized();
+    rolling_half_width(s.radius_m, s.relief_m, s.resolution_m, MAX_HALF_WIDTH)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rest_without_speed_stays_at_equilibrium() {
+        let s = PhysicsSettings {
+            speed_m_s: 0.0,
+            ..Default::default()
+        };
+        let mut e = PhysicsEngine::new(&s);
+        let mut f = vec![0.0f32; 4800];
+        e.process(&mut f);
+        let w = (s.mass_kg * s.gravity_m_s2) as f32;
+        for &x in &f {
+            assert!((x - w).abs() < 1e-3 * w, "{x} vs {w}");
+        }
+    }
+
+    #[test]
+    fn hertz_contact_time_matches_theory() {
+        // Pure Hertz: t₀ = 2.9432·(5/(4κ))^{2/5}·v^{−1/5} (Johnson, Contact Mechanics §11).
+        let s = PhysicsSettings {
+            oversample: 8,
+            ..Default::default()
+        };
+        let v = 0.01;
+        let r = single_impact(&s, v, false, false);
+        let theory = 2.943_2 * (1.25 / s.kappa).powf(0.4) * v.powf(-0.2);
+        assert!(
+            (r.contact_duration_s / theory - 1.0).abs() < 1e-3,
+            "{r:?} vs {theory}"
+        );
+        assert!((r.restitution - 1.0).abs() < 1e-4);
+    }
+}
