@@ -1,1 +1,84 @@
-fn main() {}
+//! `trundle` — render Trundle scenes offline.
+//!
+//! ```text
+//! trundle render -o out.wav [--preset NAME|PATH] [--set ID=VALUE]… [--seconds S]
+//!                [--sample-rate HZ] [--seed N] [--force-only] [--impacts FILE.csv]
+//!                [--force] [--format pcm24|pcm16|f32] [--normalize-db X | --no-normalize]
+//! trundle presets [--json]     the built-in scenes
+//! trundle params [--json]      every parameter ID, unit, range, default
+//! ```
+//!
+//! The command drives the very same engine as the plugin ([`trundle_dsp::Voice`]) with
+//! the same parameter table and presets. Exit codes: 0 success, 1 failure while working
+//! (I/O), 2 bad input — every bad input is refused with a single `error: …` line naming
+//! it, before anything is rendered or written (see [`error`]).
+
+mod atomic;
+mod error;
+mod level;
+mod list;
+mod render;
+
+use clap::{Parser, Subcommand};
+use error::{failure, CliError};
+use std::io::{self, Write};
+use std::process::ExitCode;
+
+/// Render the sound of a ball rolling on a surface — and rubbing, scratching — offline.
+#[derive(Parser, Debug)]
+#[command(name = "trundle", version, propagate_version = true)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Render a scene to a WAV file (the default preset unless --preset is given).
+    Render(render::RenderArgs),
+    /// List the built-in presets (scenes).
+    Presets {
+        /// Print JSON (stem, name, description, every parameter value).
+        #[arg(long)]
+        json: bool,
+    },
+    /// List every parameter: the IDs `--set` and preset files take.
+    Params {
+        /// Print JSON (key, name, unit, kind, range, default, doc).
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+/// Print to stdout; a closed pipe (`trundle params | head`) ends quietly, not in a panic.
+fn emit(text: &str) -> Result<(), CliError> {
+    let mut out = io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Ok(()) => Ok(()),
+        Err(e) if e.kind() == io::ErrorKind::BrokenPipe => Ok(()),
+        Err(e) => Err(failure(format!("cannot write to stdout: {e}"))),
+    }
+}
+
+fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            // Help and version go to stdout with code 0; usage errors to stderr with 2.
+            let _ = e.print();
+            return ExitCode::from(u8::try_from(e.exit_code()).unwrap_or(error::EXIT_INPUT));
+        }
+    };
+    let result = match &cli.command {
+        Command::Render(args) => render::run(args).and_then(|line| emit(&format!("{line}\n"))),
+        Command::Presets { json } => emit(&list::presets(*json)),
+        Command::Params { json } => emit(&list::params(*json)),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(e.exit_code())
+        }
+    }
+}

@@ -1,0 +1,984 @@
+//! `trundle render`: one scene to a WAV file (and optionally its impacts to a CSV file).
+//!
+//! ```text
+//! preset (built-in or file) ─► --set ID=VALUE … ─► --seed, --force-only ─► Params
+//!   ─► Voice, blocks of 4096 ─► impacts ─► CSV (temp file, renamed into place)
+//!                      │
+//!                      └─► samples ─► normalize (two passes, via a spool) or soft limit
+//!                                  ─► quantize ─► WAV (temp file, renamed into place)
+//! ```
+//!
+//! Everything the user gave is validated before anything is rendered or written: a bad
+//! argument costs nothing and touches no file. Then the render runs block by block; impacts
+//! are drained after every block into a buffered CSV writer. Peak normalization needs the
+//! whole render's peak before the first sample is written, so the render is spooled — in
+//! memory up to [`MEM_SPOOL_SAMPLES`], beyond that to a temporary raw file next to the
+//! output (removed afterwards) — and scaled on the way out. The calibrated path
+//! (`--no-normalize`) streams straight to the WAV.
+
+use crate::atomic::{parent_dir, PersistError, TempFile};
+use crate::error::{failure, input, quote, CliError};
+use crate::level::{self, Stats};
+use clap::{Args, ValueEnum};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::fs::{self, File};
+use std::io::{self, BufReader, BufWriter, IsTerminal, Read, Seek, SeekFrom, Write};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+use trundle_dsp::params::{spec_by_key, ParamId, OUTPUT_NAMES};
+use trundle_dsp::preset::{Preset, DEFAULT_PRESET};
+use trundle_dsp::{ImpactRecord, Params, Voice};
+
+/// Length of a render unless `--seconds` says otherwise.
+pub const DEFAULT_SECONDS: f64 = 5.0;
+/// Longest render `--seconds` accepts: 24 h.
+pub const MAX_SECONDS: f64 = 86_400.0;
+/// Sample rate unless `--sample-rate` says otherwise (Hz).
+pub const DEFAULT_SAMPLE_RATE: u32 = 48_000;
+/// Lowest `--sample-rate` (Hz), the core's limit.
+pub const MIN_SAMPLE_RATE: u32 = trundle_dsp::MIN_SAMPLE_RATE_HZ as u32;
+/// Highest `--sample-rate` (Hz), the core's limit.
+pub const MAX_SAMPLE_RATE: u32 = trundle_dsp::MAX_SAMPLE_RATE_HZ as u32;
+/// Peak target unless `--normalize-db` says otherwise (dBFS).
+pub const DEFAULT_NORMALIZE_DB: f64 = -1.0;
+/// Lowest `--normalize-db` (dBFS); below it a 24-bit file would hold mostly rounding noise.
+pub const MIN_NORMALIZE_DB: f64 = -100.0;
+/// Samples rendered per block (impacts are drained after each).
+pub const BLOCK: usize = 4096;
+/// Renders up to this many samples (64 MB of f32: 5.8 min at 48 kHz) are spooled in
+/// memory for normalization; longer ones go to a temporary file next to the output.
+pub const MEM_SPOOL_SAMPLES: u64 = 1 << 24;
+/// Largest data chunk a WAV file can hold: its RIFF sizes are 32-bit (minus room for the
+/// header). Longer renders are refused up front rather than failing at the end.
+pub const WAV_MAX_DATA_BYTES: u64 = u32::MAX as u64 - 4096;
+/// Largest preset file read (presets are a few hundred bytes; this stops `/dev/zero`).
+pub const MAX_PRESET_BYTES: u64 = 1 << 20;
+/// The summary warns of a DC offset above this fraction of the RMS (−20 dB).
+pub const DC_WARN_RATIO: f64 = 0.1;
+/// Header of the `--impacts` CSV file.
+pub const CSV_HEADER: &str = "time_s,amplitude,duration_s";
+
+/// Sample format of the WAV file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Format {
+    /// 24-bit integer PCM.
+    Pcm24,
+    /// 16-bit integer PCM (rounded, not dithered).
+    Pcm16,
+    /// 32-bit IEEE float.
+    F32,
+}
+
+impl Format {
+    fn name(self) -> &'static str {
+        match self {
+            Format::Pcm24 => "pcm24",
+            Format::Pcm16 => "pcm16",
+            Format::F32 => "f32",
+        }
+    }
+    fn bytes_per_sample(self) -> u64 {
+        match self {
+            Format::Pcm24 => 3,
+            Format::Pcm16 => 2,
+            Format::F32 => 4,
+        }
+    }
+    fn spec(self, sample_rate: u32) -> hound::WavSpec {
+        let (bits_per_sample, sample_format) = match self {
+            Format::Pcm24 => (24, hound::SampleFormat::Int),
+            Format::Pcm16 => (16, hound::SampleFormat::Int),
+            Format::F32 => (32, hound::SampleFormat::Float),
+        };
+        hound::WavSpec {
+            channels: 1,
+            sample_rate,
+            bits_per_sample,
+            sample_format,
+        }
+    }
+}
+
+/// Arguments of `trundle render`.
+///
+/// Numeric options are read as text and validated here, so that every mistake gets the
+/// same one-line `error: …` naming the option, the value and the allowed range.
+#[derive(Args, Debug)]
+#[command(after_help = "\
+Examples:
+  trundle render -o ball.wav
+  trundle render --preset marble-on-glass --seconds 10 -o marble.wav
+  trundle render --set size=0.8 --set shape=bar --seed 7 -o bar.wav
+  trundle render --force-only --impacts hits.csv -o force.wav
+
+Parameter IDs and ranges: `trundle params`. Built-in presets: `trundle presets`.")]
+pub struct RenderArgs {
+    /// Output WAV file (mono). An existing file is an error unless --force is given.
+    #[arg(short, long, value_name = "FILE.wav")]
+    pub output: PathBuf,
+
+    /// A built-in preset by name (see `trundle presets`), or a preset file: a path
+    /// containing '/' or ending in .json.
+    #[arg(long, value_name = "NAME|PATH", default_value = DEFAULT_PRESET)]
+    pub preset: String,
+
+    /// Set a parameter, after the preset (repeatable; see `trundle params`; enumerations
+    /// by name, e.g. shape=bar). Values out of range are refused, never clamped.
+    #[arg(long = "set", value_name = "ID=VALUE", allow_hyphen_values = true)]
+    pub set: Vec<String>,
+
+    /// Length of the render in seconds (0 < S ≤ 86400) [default: 5]
+    #[arg(long, value_name = "S", allow_hyphen_values = true)]
+    pub seconds: Option<String>,
+
+    /// Sample rate in Hz (8000–384000) [default: 48000]
+    #[arg(long, value_name = "HZ", allow_hyphen_values = true)]
+    pub sample_rate: Option<String>,
+
+    /// Random seed (0–2147483647); overrides the preset's `seed`.
+    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    pub seed: Option<String>,
+
+    /// Write the interaction force instead of the object's sound (same as
+    /// --set output=force).
+    #[arg(long)]
+    pub force_only: bool,
+
+    /// Also write one CSV row per impact: time_s,amplitude,duration_s.
+    #[arg(long, value_name = "FILE.csv")]
+    pub impacts: Option<PathBuf>,
+
+    /// Allow overwriting existing output files.
+    #[arg(long)]
+    pub force: bool,
+
+    /// Sample format of the WAV file.
+    #[arg(long, value_enum, default_value_t = Format::Pcm24)]
+    pub format: Format,
+
+    /// Peak-normalize to this level in dBFS (−100 … 0) [default: -1]
+    #[arg(
+        long,
+        value_name = "DB",
+        allow_hyphen_values = true,
+        conflicts_with = "no_normalize"
+    )]
+    pub normalize_db: Option<String>,
+
+    /// Keep the engine's calibrated level; a soft limiter keeps peaks below full scale and
+    /// the summary says how many samples it touched.
+    #[arg(long)]
+    pub no_normalize: bool,
+}
+
+/// How the output level is set.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum LevelMode {
+    /// Scale so the peak sits at this many dBFS.
+    Normalize { peak_db: f64 },
+    /// Keep the engine's level, soft-limit above −1 dBFS.
+    Calibrated,
+}
+
+/// A validated render: nothing in here can be wrong any more.
+#[derive(Debug)]
+struct Plan {
+    params: Params,
+    preset_name: String,
+    sample_rate: u32,
+    frames: u64,
+    format: Format,
+    level: LevelMode,
+    output: PathBuf,
+    impacts: Option<PathBuf>,
+    overwrite: bool,
+}
+
+/// Run `trundle render`; returns the summary line.
+pub fn run(args: &RenderArgs) -> Result<String, CliError> {
+    let plan = plan(args)?;
+    execute(&plan)
+}
+
+// ---------------------------------------------------------------------------------------
+// Validation
+// ---------------------------------------------------------------------------------------
+
+fn plan(args: &RenderArgs) -> Result<Plan, CliError> {
+    let seconds = match &args.seconds {
+        Some(t) => parse_seconds(t)?,
+        None => DEFAULT_SECONDS,
+    };
+    let sample_rate = match &args.sample_rate {
+        Some(t) => parse_sample_rate(t)?,
+        None => DEFAULT_SAMPLE_RATE,
+    };
+    let frames = (seconds * f64::from(sample_rate)).round() as u64;
+    if frames == 0 {
+        return Err(input(format!(
+            "--seconds {} is shorter than one sample at {sample_rate} Hz",
+            args.seconds.as_deref().unwrap_or_default()
+        )));
+    }
+    let data_bytes = frames * args.format.bytes_per_sample();
+    if data_bytes > WAV_MAX_DATA_BYTES {
+        let max_s =
+            (WAV_MAX_DATA_BYTES / args.format.bytes_per_sample()) as f64 / f64::from(sample_rate);
+        return Err(input(format!(
+            "--seconds {seconds} at {sample_rate} Hz in {} needs {:.1} GB, more than a WAV file can hold (4 GiB): at most {max_s:.0} s at this rate and format (try a lower --sample-rate or --format pcm16)",
+            args.format.name(),
+            data_bytes as f64 / 1e9
+        )));
+    }
+
+    let preset = load_preset(&args.preset)?;
+    let mut params = preset.params;
+
+    let mut set_seed: Option<f64> = None;
+    let mut set_output: Option<f64> = None;
+    for item in &args.set {
+        let (key, value) = item
+            .split_once('=')
+            .filter(|(k, _)| !k.trim().is_empty())
+            .ok_or_else(|| {
+                input(format!(
+                    "--set expects ID=VALUE (e.g. --set size=0.5), got {}",
+                    quote(item)
+                ))
+            })?;
+        let key = key.trim();
+        params
+            .set_text(key, value)
+            .map_err(|e| input(format!("--set {}: {e}", quote(item))))?;
+        if let Some(spec) = spec_by_key(key) {
+            match spec.id {
+                ParamId::Seed => set_seed = Some(params.get(ParamId::Seed)),
+                ParamId::Output => set_output = Some(params.get(ParamId::Output)),
+                _ => {}
+            }
+        }
+    }
+
+    if let Some(text) = &args.seed {
+        let v = ParamId::Seed
+            .spec()
+            .parse(text)
+            .map_err(|e| input(format!("--seed {}: {e}", quote(text))))?;
+        if set_seed.is_some_and(|s| s != v) {
+            return Err(input(format!(
+                "--seed {} contradicts --set seed={}; give one of them",
+                quote(text),
+                set_seed.unwrap_or_default()
+            )));
+        }
+        params
+            .set(ParamId::Seed, v)
+            .map_err(|e| input(format!("--seed: {e}")))?;
+    }
+
+    if args.force_only {
+        let force = OUTPUT_NAMES
+            .iter()
+            .position(|n| *n == "force")
+            .expect("the output parameter has a 'force' variant") as f64;
+        if set_output.is_some_and(|o| o != force) {
+            return Err(input(
+                "--force-only contradicts --set output=object; give one of them",
+            ));
+        }
+        params
+            .set(ParamId::Output, force)
+            .map_err(|e| input(format!("--force-only: {e}")))?;
+    }
+
+    let level = if args.no_normalize {
+        LevelMode::Calibrated
+    } else {
+        let peak_db = match &args.normalize_db {
+            Some(t) => parse_normalize_db(t)?,
+            None => DEFAULT_NORMALIZE_DB,
+        };
+        LevelMode::Normalize { peak_db }
+    };
+
+    check_destination(&args.output, "--output", args.force)?;
+    if let Some(csv) = &args.impacts {
+        check_destination(csv, "--impacts", args.force)?;
+        if same_path(csv, &args.output) {
+            return Err(input(format!(
+                "--impacts and --output are the same file {}",
+                quote(&csv.display().to_string())
+            )));
+        }
+    }
+
+    Ok(Plan {
+        params,
+        preset_name: preset.name,
+        sample_rate,
+        frames,
+        format: args.format,
+        level,
+        output: args.output.clone(),
+        impacts: args.impacts.clone(),
+        overwrite: args.force,
+    })
+}
+
+fn parse_number(option: &str, text: &str, what: &str) -> Result<f64, CliError> {
+    text.trim()
+        .parse::<f64>()
+        .map_err(|_| input(format!("{option}: cannot read {} as {what}", quote(text))))
+}
+
+fn parse_seconds(text: &str) -> Result<f64, CliError> {
+    let v = parse_number("--seconds", text, "a number of seconds")?;
+    if !v.is_finite() {
+        return Err(input(format!(
+            "--seconds must be a finite number of seconds, got {}",
+            quote(text)
+        )));
+    }
+    if v <= 0.0 {
+        return Err(input(format!(
+            "--seconds must be greater than 0, got {}",
+            quote(text)
+        )));
+    }
+    if v > MAX_SECONDS {
+        return Err(input(format!(
+            "--seconds {} is longer than the limit of 24 h ({MAX_SECONDS} s)",
+            quote(text)
+        )));
+    }
+    Ok(v)
+}
+
+fn parse_sample_rate(text: &str) -> Result<u32, CliError> {
+    let range = format!("{MIN_SAMPLE_RATE}–{MAX_SAMPLE_RATE} Hz");
+    let v = parse_number("--sample-rate", text, "a sample rate in Hz")?;
+    if !v.is_finite() || v.fract() != 0.0 {
+        return Err(input(format!(
+            "--sample-rate must be a whole number of Hz ({range}), got {}",
+            quote(text)
+        )));
+    }
+    if v < f64::from(MIN_SAMPLE_RATE) || v > f64::from(MAX_SAMPLE_RATE) {
+        return Err(input(format!(
+            "--sample-rate {} is out of range ({range})",
+            quote(text)
+        )));
+    }
+    Ok(v as u32)
+}
+
+fn parse_normalize_db(text: &str) -> Result<f64, CliError> {
+    let v = parse_number("--normalize-db", text, "a level in dBFS")?;
+    if !v.is_finite() || !(MIN_NORMALIZE_DB..=0.0).contains(&v) {
+        return Err(input(format!(
+            "--normalize-db must be between {MIN_NORMALIZE_DB} and 0 dBFS (above 0 the file would clip), got {}",
+            quote(text)
+        )));
+    }
+    Ok(v)
+}
+
+/// Does `--preset` name a file (rather than a built-in preset)?
+fn names_a_file(arg: &str) -> bool {
+    arg.contains('/') || arg.contains(std::path::MAIN_SEPARATOR) || arg.ends_with(".json")
+}
+
+/// Load a built-in preset or a preset file; errors name the preset and the problem.
+pub fn load_preset(arg: &str) -> Result<Preset, CliError> {
+    if !names_a_file(arg) {
+        return Preset::builtin(arg).map_err(|e| {
+            input(format!(
+                "--preset {}: {e}; to load a file, give a path containing '/' or ending in .json",
+                quote(arg)
+            ))
+        });
+    }
+    let path = Path::new(arg);
+    let err = |what: String| input(format!("--preset {}: {what}", quote(arg)));
+    let file = File::open(path).map_err(|e| err(format!("cannot open: {e}")))?;
+    let mut bytes = Vec::new();
+    file.take(MAX_PRESET_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| err(format!("cannot read: {e}")))?;
+    if bytes.len() as u64 > MAX_PRESET_BYTES {
+        return Err(err(format!(
+            "larger than {} KiB: not a preset file",
+            MAX_PRESET_BYTES / 1024
+        )));
+    }
+    let text =
+        String::from_utf8(bytes).map_err(|_| err("not UTF-8 text: not a preset file".into()))?;
+    Preset::from_json(&text).map_err(|e| err(e.to_string()))
+}
+
+fn check_destination(path: &Path, option: &str, overwrite: bool) -> Result<(), CliError> {
+    let shown = quote(&path.display().to_string());
+    if path.as_os_str().is_empty() || path.file_name().is_none() {
+        return Err(input(format!("{option} {shown} is not a file name")));
+    }
+    let dir = parent_dir(path);
+    match fs::metadata(dir) {
+        Ok(m) if m.is_dir() => {}
+        _ => {
+            return Err(input(format!(
+                "{option} {shown}: folder {} does not exist",
+                quote(&dir.display().to_string())
+            )))
+        }
+    }
+    match fs::symlink_metadata(path) {
+        Ok(m) if m.is_dir() => Err(input(format!("{option} {shown} is a folder"))),
+        Ok(_) if !overwrite => Err(input(format!(
+            "{option} {shown} already exists (use --force to overwrite it)"
+        ))),
+        _ => Ok(()),
+    }
+}
+
+fn same_path(a: &Path, b: &Path) -> bool {
+    match (std::path::absolute(a), std::path::absolute(b)) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => a == b,
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Rendering
+// ---------------------------------------------------------------------------------------
+
+fn io_fail(what: &str, path: &Path, e: impl std::fmt::Display) -> CliError {
+    failure(format!(
+        "{what} {}: {e}",
+        quote(&path.display().to_string())
+    ))
+}
+
+/// The WAV being written, under a temporary name until [`WavOut::finish`].
+struct WavOut {
+    tmp: TempFile,
+    sync: File,
+    writer: hound::WavWriter<BufWriter<File>>,
+    format: Format,
+    stats: Stats,
+}
+
+impl WavOut {
+    fn create(dest: &Path, format: Format, sample_rate: u32) -> Result<Self, CliError> {
+        let (tmp, file) = TempFile::create_beside(dest, "tmp")
+            .map_err(|e| io_fail("cannot create a temporary file beside", dest, e))?;
+        let sync = file
+            .try_clone()
+            .map_err(|e| io_fail("cannot write", tmp.path(), e))?;
+        let writer = hound::WavWriter::new(BufWriter::new(file), format.spec(sample_rate))
+            .map_err(|e| io_fail("cannot write", tmp.path(), e))?;
+        Ok(Self {
+            tmp,
+            sync,
+            writer,
+            format,
+            stats: Stats::default(),
+        })
+    }
+
+    /// Write one sample in [−1, 1] (quantized to the format).
+    #[inline]
+    fn write(&mut self, x: f64) -> Result<(), hound::Error> {
+        match self.format {
+            Format::Pcm24 => {
+                let q = level::quantize(x, level::PCM24_MAX);
+                self.stats.add(f64::from(q) / level::PCM24_MAX);
+                self.writer.write_sample(q)
+            }
+            Format::Pcm16 => {
+                let q = level::quantize(x, level::PCM16_MAX) as i16;
+                self.stats.add(f64::from(q) / level::PCM16_MAX);
+                self.writer.write_sample(q)
+            }
+            Format::F32 => {
+                let v = x as f32;
+                self.stats.add(f64::from(v));
+                self.writer.write_sample(v)
+            }
+        }
+    }
+
+    fn finish(self, dest: &Path, overwrite: bool) -> Result<Stats, CliError> {
+        let WavOut {
+            tmp,
+            sync,
+            writer,
+            stats,
+            ..
+        } = self;
+        writer
+            .finalize()
+            .map_err(|e| io_fail("cannot write", tmp.path(), e))?;
+        sync.sync_all()
+            .map_err(|e| io_fail("cannot write", tmp.path(), e))?;
+        drop(sync);
+        persist(tmp, dest, overwrite, "--output")?;
+        Ok(stats)
+    }
+}
+
+fn persist(tmp: TempFile, dest: &Path, overwrite: bool, option: &str) -> Result<(), CliError> {
+    tmp.persist(dest, overwrite).map_err(|e| match e {
+        PersistError::Exists => input(format!(
+            "{option} {} appeared while rendering; it was left untouched (use --force to overwrite it)",
+            quote(&dest.display().to_string())
+        )),
+        PersistError::Io(e) => io_fail("cannot move the finished file to", dest, e),
+    })
+}
+
+/// The impact list being written.
+struct CsvOut {
+    tmp: TempFile,
+    writer: BufWriter<File>,
+    error: Option<io::Error>,
+}
+
+impl CsvOut {
+    fn create(dest: &Path) -> Result<Self, CliError> {
+        let (tmp, file) = TempFile::create_beside(dest, "tmp")
+            .map_err(|e| io_fail("cannot create a temporary file beside", dest, e))?;
+        let mut writer = BufWriter::new(file);
+        writeln!(writer, "{CSV_HEADER}").map_err(|e| io_fail("cannot write", tmp.path(), e))?;
+        Ok(Self {
+            tmp,
+            writer,
+            error: None,
+        })
+    }
+
+    /// Append one row (f64 `Display` is the shortest text that reads back exactly, and
+    /// never uses exponent notation). The first I/O error is kept for [`CsvOut::check`].
+    fn row(&mut self, r: &ImpactRecord) {
+        if self.error.is_none() {
+            if let Err(e) = writeln!(self.writer, "{},{},{}", r.time_s, r.amplitude, r.duration_s) {
+                self.error = Some(e);
+            }
+        }
+    }
+
+    fn check(&mut self) -> Result<(), CliError> {
+        match self.error.take() {
+            Some(e) => Err(io_fail("cannot write", self.tmp.path(), e)),
+            None => Ok(()),
+        }
+    }
+
+    fn finish(mut self, dest: &Path, overwrite: bool) -> Result<(), CliError> {
+        self.check()?;
+        let CsvOut { tmp, writer, .. } = self;
+        let file = writer
+            .into_inner()
+            .map_err(|e| io_fail("cannot write", tmp.path(), e.error()))?;
+        file.sync_all()
+            .map_err(|e| io_fail("cannot write", tmp.path(), e))?;
+        drop(file);
+        persist(tmp, dest, overwrite, "--impacts")
+    }
+}
+
+/// The whole render, kept for normalization: in memory, or in a raw f32 file.
+enum Spool {
+    Memory(Vec<f32>),
+    Disk {
+        tmp: TempFile,
+        writer: BufWriter<File>,
+    },
+}
+
+impl Spool {
+    /// A spool for `frames` samples: in memory up to `memory_limit` samples, else a
+    /// temporary file beside `dest`.
+    fn new(frames: u64, memory_limit: u64, dest: &Path) -> Result<Self, CliError> {
+        if frames <= memory_limit {
+            return Ok(Spool::Memory(Vec::with_capacity(frames as usize)));
+        }
+        let (tmp, file) = TempFile::create_beside(dest, "spool")
+            .map_err(|e| io_fail("cannot create a temporary file beside", dest, e))?;
+        Ok(Spool::Disk {
+            tmp,
+            writer: BufWriter::with_capacity(1 << 20, file),
+        })
+    }
+
+    fn push(&mut self, block: &[f32]) -> Result<(), CliError> {
+        match self {
+            Spool::Memory(v) => {
+                v.extend_from_slice(block);
+                Ok(())
+            }
+            Spool::Disk { tmp, writer } => {
+                let mut bytes = [0u8; BLOCK * 4];
+                for (chunk, x) in bytes.chunks_exact_mut(4).zip(block) {
+                    chunk.copy_from_slice(&x.to_le_bytes());
+                }
+                writer
+                    .write_all(&bytes[..block.len() * 4])
+                    .map_err(|e| io_fail("cannot write", tmp.path(), e))
+            }
+        }
+    }
+
+    /// Hand the spooled samples back, in order, block by block.
+    fn replay(self, mut f: impl FnMut(&[f32]) -> Result<(), CliError>) -> Result<(), CliError> {
+        match self {
+            Spool::Memory(v) => {
+                for block in v.chunks(BLOCK) {
+                    f(block)?;
+                }
+                Ok(())
+            }
+            Spool::Disk { tmp, writer } => {
+                let mut file = writer
+                    .into_inner()
+                    .map_err(|e| io_fail("cannot write", tmp.path(), e.error()))?;
+                file.seek(SeekFrom::Start(0))
+                    .map_err(|e| io_fail("cannot read", tmp.path(), e))?;
+                let len = file
+                    .metadata()
+                    .map_err(|e| io_fail("cannot read", tmp.path(), e))?
+                    .len();
+                let mut reader = BufReader::with_capacity(1 << 20, file);
+                let mut bytes = [0u8; BLOCK * 4];
+                let mut samples = [0f32; BLOCK];
+                let mut left = len / 4;
+                while left > 0 {
+                    let n = (left as usize).min(BLOCK);
+                    reader
+                        .read_exact(&mut bytes[..n * 4])
+                        .map_err(|e| io_fail("cannot read", tmp.path(), e))?;
+                    for (x, chunk) in samples.iter_mut().zip(bytes[..n * 4].chunks_exact(4)) {
+                        *x = f32::from_le_bytes([chunk[0], chunk[1], chunk[2], chunk[3]]);
+                    }
+                    f(&samples[..n])?;
+                    left -= n as u64;
+                }
+                drop(tmp);
+                Ok(())
+            }
+        }
+    }
+}
+
+/// The progress bar: drawn on stderr, only when stderr is a terminal, and only for
+/// renders longer than a moment (more than [`PROGRESS_AUDIO_S`] of audio, or a projected
+/// wall time over [`PROGRESS_WALL_S`]).
+struct Progress {
+    total: u64,
+    start: Instant,
+    enabled: bool,
+    long_audio: bool,
+    bar: Option<ProgressBar>,
+}
+
+/// Renders of more audio than this always get a progress bar (seconds).
+const PROGRESS_AUDIO_S: f64 = 20.0;
+/// Renders projected to take longer than this get a progress bar (seconds of wall time).
+const PROGRESS_WALL_S: f64 = 0.5;
+
+impl Progress {
+    fn new(total: u64, audio_s: f64) -> Self {
+        Self {
+            total,
+            start: Instant::now(),
+            enabled: io::stderr().is_terminal(),
+            long_audio: audio_s > PROGRESS_AUDIO_S,
+            bar: None,
+        }
+    }
+
+    fn update(&mut self, done: u64) {
+        if !self.enabled {
+            return;
+        }
+        if let Some(bar) = &self.bar {
+            bar.set_position(done);
+            return;
+        }
+        let elapsed = self.start.elapsed().as_secs_f64();
+        // Project only after a few blocks, so start-up cost does not trigger a bar.
+        let projected = if elapsed > 0.05 && done > 0 {
+            elapsed * self.total as f64 / done as f64
+        } else {
+            0.0
+        };
+        if self.long_audio || projected > PROGRESS_WALL_S {
+            let style = ProgressStyle::with_template(
+                "rendering [{bar:40}] {percent:>3}%  {elapsed} elapsed, eta {eta}  {msg}",
+            )
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> ");
+            let bar = ProgressBar::with_draw_target(Some(self.total), ProgressDrawTarget::stderr())
+                .with_style(style);
+            bar.set_position(done);
+            self.bar = Some(bar);
+        }
+    }
+
+    fn message(&self, msg: &'static str) {
+        if let Some(bar) = &self.bar {
+            bar.set_message(msg);
+        }
+    }
+
+    fn finish(&mut self) {
+        if let Some(bar) = self.bar.take() {
+            bar.finish_and_clear();
+        }
+    }
+}
+
+/// Counts of the impact log.
+#[derive(Default)]
+struct Impacts {
+    count: u64,
+    dropped: u64,
+}
+
+/// Run the voice for `frames` samples in blocks of [`BLOCK`]; drain impacts after each
+/// block; hand each block to `sink`.
+fn render_pass(
+    voice: &mut Voice,
+    frames: u64,
+    csv: &mut Option<CsvOut>,
+    impacts: &mut Impacts,
+    progress: &mut Progress,
+    mut sink: impl FnMut(&[f32]) -> Result<(), CliError>,
+) -> Result<(), CliError> {
+    let mut block = vec![0f32; BLOCK];
+    let mut done = 0u64;
+    while done < frames {
+        let n = (frames - done).min(BLOCK as u64) as usize;
+        let out = &mut block[..n];
+        voice.process(out);
+        let count = &mut impacts.count;
+        impacts.dropped += voice.drain_impacts(|r| {
+            *count += 1;
+            if let Some(c) = csv.as_mut() {
+                c.row(&r);
+            }
+        });
+        if let Some(c) = csv.as_mut() {
+            c.check()?;
+        }
+        sink(out)?;
+        done += n as u64;
+        progress.update(done);
+    }
+    Ok(())
+}
+
+fn execute(plan: &Plan) -> Result<String, CliError> {
+    let fs = plan.sample_rate;
+    let mut voice = Voice::new(f64::from(fs), &plan.params);
+    voice.set_impact_log(true);
+
+    // Create the temporary outputs first: a folder that cannot be written fails before
+    // the render, not after it.
+    let mut wav = WavOut::create(&plan.output, plan.format, fs)?;
+    let mut csv = match &plan.impacts {
+        Some(p) => Some(CsvOut::create(p)?),
+        None => None,
+    };
+    let seconds = plan.frames as f64 / f64::from(fs);
+    let mut progress = Progress::new(plan.frames, seconds);
+    let mut impacts = Impacts::default();
+    let mut nonfinite = 0u64;
+    let mut clean = |x: f32| -> f64 {
+        if x.is_finite() {
+            f64::from(x)
+        } else {
+            nonfinite += 1;
+            0.0
+        }
+    };
+
+    let level_note = match plan.level {
+        LevelMode::Calibrated => {
+            let mut touched = 0u64;
+            render_pass(
+                &mut voice,
+                plan.frames,
+                &mut csv,
+                &mut impacts,
+                &mut progress,
+                |block| {
+                    for &x in block {
+                        let (y, t) = level::soft_limit(clean(x));
+                        touched += u64::from(t);
+                        wav.write(y)
+                            .map_err(|e| io_fail("cannot write", wav.tmp.path(), e))?;
+                    }
+                    Ok(())
+                },
+            )?;
+            let pct = 100.0 * touched as f64 / plan.frames as f64;
+            let mut note = format!(
+                "calibrated level (not normalized), soft limiter touched {touched} samples ({pct:.3}%)"
+            );
+            if pct > 0.1 {
+                note.push_str(" — lower gain_db or normalize for a cleaner result");
+            }
+            note
+        }
+        LevelMode::Normalize { peak_db } => {
+            let mut spool = Spool::new(plan.frames, MEM_SPOOL_SAMPLES, &plan.output)?;
+            let mut peak = 0f64;
+            render_pass(
+                &mut voice,
+                plan.frames,
+                &mut csv,
+                &mut impacts,
+                &mut progress,
+                |block| {
+                    for &x in block {
+                        peak = peak.max(clean(x).abs());
+                    }
+                    spool.push(block)
+                },
+            )?;
+            progress.message("writing");
+            let target = level::db_to_lin(peak_db);
+            let gain = if peak > 0.0 { target / peak } else { 1.0 };
+            spool.replay(|block| {
+                for &x in block {
+                    let y = if x.is_finite() {
+                        f64::from(x) * gain
+                    } else {
+                        0.0
+                    };
+                    wav.write(y)
+                        .map_err(|e| io_fail("cannot write", wav.tmp.path(), e))?;
+                }
+                Ok(())
+            })?;
+            if peak > 0.0 {
+                format!(
+                    "normalized peak to {} dBFS (gain {:+.1} dB)",
+                    level::fmt_db(peak_db),
+                    level::lin_to_db(gain)
+                )
+            } else {
+                "silent render, nothing to normalize".to_string()
+            }
+        }
+    };
+    progress.finish();
+
+    let impacts_note = match (&plan.impacts, csv) {
+        (Some(path), Some(c)) => {
+            c.finish(path, plan.overwrite)?;
+            format!(" (list in {})", path.display())
+        }
+        _ => String::new(),
+    };
+    let stats = wav.finish(&plan.output, plan.overwrite)?;
+
+    let mut line = format!(
+        "wrote {}: {} ({}), {seconds:.3} s at {fs} Hz {}, peak {} dBFS, RMS {} dBFS, {} impacts{impacts_note}; {level_note}",
+        plan.output.display(),
+        plan.preset_name,
+        if plan.params.force_only() { "force" } else { "sound" },
+        plan.format.name(),
+        level::fmt_db(stats.peak_db()),
+        level::fmt_db(stats.rms_db()),
+        impacts.count,
+    );
+    if impacts.dropped > 0 {
+        line.push_str(&format!(
+            "; warning: {} impacts were not recorded (log overflow)",
+            impacts.dropped
+        ));
+    }
+    // A DC offset wastes headroom and thumps on playback; say so when it is more than
+    // −20 dB relative to the RMS (the object's sound has none; the raw force has plenty).
+    if !plan.params.force_only() && stats.mean().abs() > DC_WARN_RATIO * stats.rms() {
+        line.push_str(&format!(
+            "; warning: DC offset {:+.4} ({} dB re RMS)",
+            stats.mean(),
+            level::fmt_db(level::lin_to_db(stats.mean().abs() / stats.rms()))
+        ));
+    }
+    if nonfinite > 0 {
+        line.push_str(&format!(
+            "; warning: {nonfinite} non-finite samples from the engine were written as 0"
+        ));
+    }
+    debug_assert!(stats.peak() <= 1.0);
+    Ok(line)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn number_parsers_refuse_and_name_bad_values() {
+        for bad in ["0", "-1", "nan", "inf", "86401", "abc", ""] {
+            let e = parse_seconds(bad).unwrap_err();
+            assert_eq!(e.exit_code(), 2);
+            assert!(e.to_string().contains("--seconds"), "{e}");
+        }
+        assert_eq!(parse_seconds("86400").unwrap(), 86_400.0);
+        for bad in ["1000", "500000", "44100.5", "nan", "x"] {
+            let e = parse_sample_rate(bad).unwrap_err();
+            assert!(e.to_string().contains(bad), "{e}");
+        }
+        assert_eq!(parse_sample_rate("8000").unwrap(), 8000);
+        assert_eq!(parse_sample_rate("384000").unwrap(), 384_000);
+        for bad in ["0.5", "nan", "-101", "x"] {
+            assert!(parse_normalize_db(bad).is_err(), "{bad}");
+        }
+        assert_eq!(parse_normalize_db("-6").unwrap(), -6.0);
+    }
+
+    #[test]
+    fn disk_spool_replays_exactly_what_memory_spool_does() {
+        let dir = std::env::temp_dir().join(format!("trundle-spool-{}", std::process::id()));
+        fs::create_dir_all(&dir).unwrap();
+        let dest = dir.join("out.wav");
+        let signal: Vec<f32> = (0..3 * BLOCK + 123)
+            .map(|i| ((i as f32) * 0.013).sin() * 0.7 + f32::MIN_POSITIVE)
+            .collect();
+        let mut outs = Vec::new();
+        for limit in [u64::MAX, 0] {
+            let mut spool = Spool::new(signal.len() as u64, limit, &dest).unwrap();
+            assert_eq!(matches!(spool, Spool::Disk { .. }), limit == 0);
+            for block in signal.chunks(1000) {
+                spool.push(block).unwrap();
+            }
+            let mut back = Vec::new();
+            spool
+                .replay(|b| {
+                    assert!(b.len() <= BLOCK);
+                    back.extend_from_slice(b);
+                    Ok(())
+                })
+                .unwrap();
+            outs.push(back);
+        }
+        assert_eq!(outs[0], signal);
+        assert_eq!(outs[1], signal);
+        assert_eq!(fs::read_dir(&dir).unwrap().count(), 0, "spool file removed");
+        fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn preset_argument_rule() {
+        assert!(!names_a_file("default"));
+        assert!(names_a_file("my.json"));
+        assert!(names_a_file("./default"));
+        assert!(load_preset(DEFAULT_PRESET).is_ok());
+        let e = load_preset("nope").unwrap_err().to_string();
+        assert!(e.contains("'nope'") && e.contains(DEFAULT_PRESET), "{e}");
+    }
+}
