@@ -64,6 +64,7 @@
 #![warn(missing_docs)]
 
 pub mod analysis;
+pub mod dcblock;
 pub mod disk;
 pub mod lowpass;
 pub mod material;
