@@ -4,7 +4,10 @@ use trundle_dsp::{ParamId, Params, Voice};
 fn main() {
     for (name, set) in [
         ("default", vec![]),
-        ("metal", vec![(ParamId::MaterialX, -0.4), (ParamId::MaterialY, 0.69)]),
+        (
+            "metal",
+            vec![(ParamId::MaterialX, -0.4), (ParamId::MaterialY, 0.69)],
+        ),
         ("force", vec![(ParamId::Output, 1.0)]),
         ("v=1", vec![(ParamId::Velocity, 1.0)]),
         ("v=0.1", vec![(ParamId::Velocity, 0.1)]),

@@ -31,7 +31,7 @@ pub struct Impact {
 pub fn extract_impacts(force: &[f32], sample_rate_hz: f64, min_amplitude: f64) -> Vec<Impact> {
     let n = force.len();
     let mut out = Vec::new();
-    if n < 3 || !(sample_rate_hz > 0.0) {
+    if n < 3 || sample_rate_hz.is_nan() || sample_rate_hz <= 0.0 {
         return out;
     }
     let x = |i: usize| force[i] as f64;
@@ -328,13 +328,14 @@ pub fn cross_correlation(x: &[f64], y: &[f64], max_lag: usize) -> Vec<f64> {
     (0..=2 * max_lag)
         .map(|i| {
             let k = i as i64 - max_lag as i64;
-            let mut acc = 0.0;
-            for t in 0..n {
-                let s = t as i64 + k;
-                if s >= 0 && (s as usize) < n {
-                    acc += cx[s as usize] * cy[t];
-                }
-            }
+            let acc: f64 = if k >= 0 {
+                cx[k as usize..].iter().zip(&cy).map(|(a, b)| a * b).sum()
+            } else {
+                cx.iter()
+                    .zip(&cy[(-k) as usize..])
+                    .map(|(a, b)| a * b)
+                    .sum()
+            };
             acc / norm
         })
         .collect()
@@ -416,7 +417,10 @@ pub struct SeriesAnalysis {
 pub fn analyze_series(impacts: &[Impact]) -> SeriesAnalysis {
     let m = impacts.len().saturating_sub(1);
     let a: Vec<f64> = impacts[..m].iter().map(|i| i.amplitude).collect();
-    let dt: Vec<f64> = impacts.windows(2).map(|w| w[1].time_s - w[0].time_s).collect();
+    let dt: Vec<f64> = impacts
+        .windows(2)
+        .map(|w| w[1].time_s - w[0].time_s)
+        .collect();
     let (mu_a, sd_a, _, _) = moments(&a);
     let (mu_d, sd_d, _, _) = moments(&dt);
     let ca: Vec<f64> = a.iter().map(|v| v - mu_a).collect();
@@ -477,7 +481,13 @@ mod tests {
     fn gauss_newton_recovers_arma11_across_table_i() {
         // N = 20 000: the asymptotic standard errors are ≤ 0.004 (a1) and ≤ 0.01 (b1) over
         // this range; the bounds are 3–4 of them.
-        for &(a1, b1) in &[(-0.97, 0.07), (-0.93, 0.32), (-0.97, -0.34), (-0.93, 0.35), (-0.95, 0.0)] {
+        for &(a1, b1) in &[
+            (-0.97, 0.07),
+            (-0.93, 0.32),
+            (-0.97, -0.34),
+            (-0.93, 0.35),
+            (-0.95, 0.0),
+        ] {
             let x = simulate(a1, b1, 0.04, 20_000, 11);
             let f = fit_arma11(&x);
             assert!((f.a1 - a1).abs() < 0.012, "a1 {} vs {a1}", f.a1);
@@ -512,9 +522,21 @@ mod tests {
         let found = extract_impacts(&x, fs, 0.01);
         assert_eq!(found.len(), truth.len());
         for (f, (tc, a, t0)) in found.iter().zip(&truth) {
-            assert!((f.time_s - tc).abs() * fs < 0.05, "time {} vs {tc}", f.time_s);
-            assert!((f.amplitude / a - 1.0).abs() < 0.01, "amp {} vs {a}", f.amplitude);
-            assert!((f.duration_s / t0 - 1.0).abs() < 0.05, "dur {} vs {t0}", f.duration_s);
+            assert!(
+                (f.time_s - tc).abs() * fs < 0.05,
+                "time {} vs {tc}",
+                f.time_s
+            );
+            assert!(
+                (f.amplitude / a - 1.0).abs() < 0.01,
+                "amp {} vs {a}",
+                f.amplitude
+            );
+            assert!(
+                (f.duration_s / t0 - 1.0).abs() < 0.05,
+                "dur {} vs {t0}",
+                f.duration_s
+            );
         }
         let (zeta, theta) = fit_duration_law(&found);
         assert!(zeta.is_finite() && theta.is_finite());
