@@ -40,12 +40,7 @@ impl Modulator {
     /// Multiply `x` by 1 + m·sin(2πν_m t), with m and ν_m ramping linearly over the block
     /// from their start to their end values (per-sample interpolation: no zipper noise).
     /// `rate_per_sample` is ν_m/fs in cycles per sample.
-    pub fn apply(
-        &mut self,
-        x: &mut [f32],
-        depth: (f32, f32),
-        rate_per_sample: (f64, f64),
-    ) {
+    pub fn apply(&mut self, x: &mut [f32], depth: (f32, f32), rate_per_sample: (f64, f64)) {
         let n = x.len();
         if n == 0 {
             return;

@@ -149,7 +149,9 @@ impl Preset {
         for (key, v) in &map {
             let spec = spec_by_key(key).ok_or_else(|| ParamError::UnknownId(key.clone()))?;
             let value = match v {
-                Value::Number(n) => spec.validate(n.as_f64().ok_or(ParamError::NotFinite { key: spec.key })?)?,
+                Value::Number(n) => {
+                    spec.validate(n.as_f64().ok_or(ParamError::NotFinite { key: spec.key })?)?
+                }
                 Value::String(s) if matches!(spec.kind, ParamKind::Enum(_)) => spec.parse(s)?,
                 other => {
                     return Err(ParamError::Unparsable {
@@ -182,7 +184,10 @@ impl Preset {
         let mut top = Map::new();
         top.insert("trundle_preset".into(), Value::from(PRESET_VERSION));
         top.insert("name".into(), Value::String(self.name.clone()));
-        top.insert("description".into(), Value::String(self.description.clone()));
+        top.insert(
+            "description".into(),
+            Value::String(self.description.clone()),
+        );
         top.insert("params".into(), Value::Object(params));
         serde_json::to_string_pretty(&Value::Object(top)).expect("a JSON value always serializes")
     }
@@ -226,18 +231,29 @@ mod tests {
         assert!(e("[1,2]").contains("not an object"));
         assert!(e(r#"{"trundle_preset": 99, "name": "x"}"#).contains("newer"));
         assert!(e(r#"{"trundle_preset": 1}"#).contains("'name'"));
-        assert!(e(r#"{"trundle_preset": 1, "name": "x", "params": {"bogus": 1}}"#)
-            .contains("unknown parameter 'bogus'"));
-        assert!(e(r#"{"trundle_preset": 1, "name": "x", "params": {"size": 7}}"#)
-            .contains("out of range"));
-        assert!(e(r#"{"trundle_preset": 1, "name": "x", "params": {"shape": "cube"}}"#)
-            .contains("no variant 'cube'"));
-        assert!(e(r#"{"trundle_preset": 1, "name": "x", "params": {"size": "big"}}"#)
-            .contains("size"));
+        assert!(
+            e(r#"{"trundle_preset": 1, "name": "x", "params": {"bogus": 1}}"#)
+                .contains("unknown parameter 'bogus'")
+        );
+        assert!(
+            e(r#"{"trundle_preset": 1, "name": "x", "params": {"size": 7}}"#)
+                .contains("out of range")
+        );
+        assert!(
+            e(r#"{"trundle_preset": 1, "name": "x", "params": {"shape": "cube"}}"#)
+                .contains("no variant 'cube'")
+        );
+        assert!(
+            e(r#"{"trundle_preset": 1, "name": "x", "params": {"size": "big"}}"#).contains("size")
+        );
         assert!(e(r#"{"trundle_preset": 1, "name": "x", "extra": 1}"#).contains("unknown field"));
-        let p = Preset::from_json(r#"{"trundle_preset": 1, "name": "x", "params": {"shape": "bar"}}"#)
-            .unwrap();
+        let p =
+            Preset::from_json(r#"{"trundle_preset": 1, "name": "x", "params": {"shape": "bar"}}"#)
+                .unwrap();
         assert_eq!(p.params.get(ParamId::Shape), 1.0);
-        assert_eq!(p.params.get(ParamId::Size), Params::default().get(ParamId::Size));
+        assert_eq!(
+            p.params.get(ParamId::Size),
+            Params::default().get(ParamId::Size)
+        );
     }
 }

@@ -71,7 +71,9 @@ const YL: f64 = 0.29;
 const WEIGHT_FLOOR: f64 = 0.1;
 
 fn w1(k: f64) -> f64 {
-    ((k * PI * X0).sin() * (k * PI * XL).sin()).abs().max(WEIGHT_FLOOR)
+    ((k * PI * X0).sin() * (k * PI * XL).sin())
+        .abs()
+        .max(WEIGHT_FLOOR)
 }
 
 impl Default for ShapeTables {

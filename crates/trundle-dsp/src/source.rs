@@ -14,7 +14,9 @@
 
 use crate::lowpass::{cutoff_hz, loudness, Lowpass};
 use crate::modulation::{rate_hz, Modulator};
-use crate::pulse::{duration_s, rolling_zeta_s, PulseEval, PulseShape, PulseTrain, T0_EXPONENT, T0_MAX_S};
+use crate::pulse::{
+    duration_s, rolling_zeta_s, PulseEval, PulseShape, PulseTrain, T0_EXPONENT, T0_MAX_S,
+};
 use crate::series::{ImpactSeries, SeriesParams, SeriesStep};
 use crate::smooth::Smoother;
 
@@ -166,7 +168,8 @@ impl Source {
             s.snap_to_target();
         }
         self.series_rho = self.roughness.value();
-        self.series.set_params(SeriesParams::table_i(self.series_rho));
+        self.series
+            .set_params(SeriesParams::table_i(self.series_rho));
         self.shape.set_sharpness(self.sharpness.value());
         self.series.reset();
         self.train.reset();
@@ -198,7 +201,8 @@ impl Source {
         self.asymmetry.snap_to_target();
         self.sharpness.snap_to_target();
         self.series_rho = self.roughness.value();
-        self.series.set_params(SeriesParams::table_i(self.series_rho));
+        self.series
+            .set_params(SeriesParams::table_i(self.series_rho));
         self.shape.set_sharpness(self.sharpness.value());
     }
 
@@ -266,8 +270,12 @@ impl Source {
             while self.next_center - lead < n as f64 {
                 let step = self.pending;
                 let t0 = duration_s(zeta, T0_EXPONENT, step.amplitude);
-                self.train
-                    .add(&self.shape, self.next_center, t0 * fs, step.amplitude as f32);
+                self.train.add(
+                    &self.shape,
+                    self.next_center,
+                    t0 * fs,
+                    step.amplitude as f32,
+                );
                 if self.log_enabled {
                     self.record(ImpactRecord {
                         time_s: (self.origin + self.next_center) / fs,

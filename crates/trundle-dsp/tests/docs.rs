@@ -10,5 +10,8 @@ fn readme_lists_every_parameter_id() {
         .map(|p| p.key)
         .filter(|k| !readme.contains(&format!("`{k}`")))
         .collect();
-    assert!(missing.is_empty(), "README.md does not document: {missing:?}");
+    assert!(
+        missing.is_empty(),
+        "README.md does not document: {missing:?}"
+    );
 }

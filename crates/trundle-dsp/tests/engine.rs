@@ -73,7 +73,11 @@ fn same_seed_same_samples_whatever_the_block_size() {
     let p = Params::default();
     let reference = render(48_000.0, &p, 48_000, 64);
     for block in [1, 7, 63, 64, 65, 1000, 4096, 8192] {
-        assert_eq!(render(48_000.0, &p, 48_000, block), reference, "block {block}");
+        assert_eq!(
+            render(48_000.0, &p, 48_000, block),
+            reference,
+            "block {block}"
+        );
     }
     // Random block sizes, including zero-length blocks.
     let mut v = Voice::new(48_000.0, &p);
@@ -81,7 +85,9 @@ fn same_seed_same_samples_whatever_the_block_size() {
     let mut pos = 0;
     let mut state = 12345u64;
     while pos < out.len() {
-        state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
         let len = ((state >> 33) % 3000) as usize;
         let end = (pos + len).min(out.len());
         v.process(&mut out[pos..end]);
@@ -208,7 +214,10 @@ fn decay_into_silence_leaves_no_subnormal_numbers() {
         v.process(&mut buf);
         assert!(buf.iter().all(|x| *x == 0.0 || x.is_normal()));
     }
-    assert!(buf.iter().all(|x| *x == 0.0), "the object should have decayed to exact 0");
+    assert!(
+        buf.iter().all(|x| *x == 0.0),
+        "the object should have decayed to exact 0"
+    );
 }
 
 #[test]
@@ -249,7 +258,12 @@ fn automation_is_click_free() {
     let fs = 48_000.0;
     let mut worst_static = 0f32;
     for &(s, v) in &[(0.1, 1.0), (1.0, 1.0), (0.1, 0.3)] {
-        let out = render(fs, &params(&[(ParamId::Size, s), (ParamId::Velocity, v)]), 24_000, 480);
+        let out = render(
+            fs,
+            &params(&[(ParamId::Size, s), (ParamId::Velocity, v)]),
+            24_000,
+            480,
+        );
         for w in out.windows(2) {
             worst_static = worst_static.max((w[1] - w[0]).abs());
         }

@@ -84,7 +84,13 @@ fn mutate(rng: &mut SmallRng, base: &[u8]) -> Vec<u8> {
             5 => {
                 // Replace the number starting at or after i by an extreme literal.
                 let lits: [&[u8]; 8] = [
-                    b"1e308", b"-1e308", b"1e999", b"NaN", b"-0", b"0.0000001", b"1e-320",
+                    b"1e308",
+                    b"-1e308",
+                    b"1e999",
+                    b"NaN",
+                    b"-0",
+                    b"0.0000001",
+                    b"1e-320",
                     b"99999999999999999999",
                 ];
                 if let Some(s) = (i..v.len()).find(|&k| v[k].is_ascii_digit()) {
@@ -105,7 +111,8 @@ fn mutate(rng: &mut SmallRng, base: &[u8]) -> Vec<u8> {
                 }
             }
             7 => {
-                let s = String::from_utf8_lossy(&v).replace("\"trundle_preset\": 1", "\"trundle_preset\": 2");
+                let s = String::from_utf8_lossy(&v)
+                    .replace("\"trundle_preset\": 1", "\"trundle_preset\": 2");
                 v = s.into_bytes();
             }
             _ => v.push(rng.random()),

@@ -23,9 +23,9 @@ fn params_from(fractions: &[f64]) -> Params {
         let v = match spec.kind {
             ParamKind::Float { log: true } => spec.min * (spec.max / spec.min).powf(t),
             ParamKind::Float { log: false } => spec.min + t * (spec.max - spec.min),
-            ParamKind::Int | ParamKind::Enum(_) => {
-                (spec.min + t * (spec.max - spec.min + 1.0)).floor().min(spec.max)
-            }
+            ParamKind::Int | ParamKind::Enum(_) => (spec.min + t * (spec.max - spec.min + 1.0))
+                .floor()
+                .min(spec.max),
         };
         // Keep renders short: the seed's range is huge but any value is as good as another.
         p.set_clamped(spec.id, v);

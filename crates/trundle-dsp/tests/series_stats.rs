@@ -67,7 +67,8 @@ impl Check<'_> {
             if ok { "ok" } else { "FAIL" }
         );
         if !ok {
-            self.failures.push(format!("{} {name}: {got} vs {want} ± {tol}", self.what));
+            self.failures
+                .push(format!("{} {name}: {got} vs {want} ± {tol}", self.what));
         }
     }
 }
@@ -84,7 +85,10 @@ fn rendered_force_recovers_table_i() {
             .iter()
             .map(|i| i.amplitude)
             .collect();
-        let dt: Vec<f64> = impacts.windows(2).map(|w| w[1].time_s - w[0].time_s).collect();
+        let dt: Vec<f64> = impacts
+            .windows(2)
+            .map(|w| w[1].time_s - w[0].time_s)
+            .collect();
         let n = a.len();
         assert!(n > 15_000, "only {n} impacts at rho {rho}");
         let (mu_a, mu_dt) = (mean(&a), mean(&dt));
@@ -107,7 +111,12 @@ fn rendered_force_recovers_table_i() {
             // allowances: the floor rule lifts means by < 1 % (measured in series.rs);
             // merged and floored impacts perturb the correlation structure slightly
             // (0.005 on a1, 0.03 on b1) and add outliers to the residual (6 % on σ).
-            c.near(&format!("{label} mean"), mu, p.mean, 4.0 * se_mu + 0.01 * p.mean);
+            c.near(
+                &format!("{label} mean"),
+                mu,
+                p.mean,
+                4.0 * se_mu + 0.01 * p.mean,
+            );
             c.near(&format!("{label} a1"), fit.a1, p.a1, 4.0 * se_a1 + 0.005);
             c.near(&format!("{label} b1"), fit.b1, p.b1, 4.0 * se_b1 + 0.03);
             c.near(
@@ -142,7 +151,12 @@ fn extracted_impacts_match_the_reported_ones() {
     let extracted = extract_impacts(&force, FS, 0.005);
     // Merged impacts (closer than a pulse) make the counts differ by a few per mille.
     let diff = (reported.len() as f64 - extracted.len() as f64).abs() / reported.len() as f64;
-    assert!(diff < 0.01, "{} reported, {} extracted", reported.len(), extracted.len());
+    assert!(
+        diff < 0.01,
+        "{} reported, {} extracted",
+        reported.len(),
+        extracted.len()
+    );
     // Times and amplitudes of isolated impacts agree closely. The force peaks lag the
     // impact times by the velocity low-pass's group delay, √2/(2π·25 kHz) ≈ 9 µs at V = 1
     // (a constant that cancels in the intervals): measure it as the median offset.
@@ -161,7 +175,11 @@ fn extracted_impacts_match_the_reported_ones() {
     let mut offsets: Vec<f64> = pairs.iter().map(|(e, r)| e.time_s - r.time_s).collect();
     offsets.sort_by(f64::total_cmp);
     let delay = offsets[offsets.len() / 2];
-    assert!((delay * FS - 0.86).abs() < 0.2, "delay {} samples", delay * FS);
+    assert!(
+        (delay * FS - 0.86).abs() < 0.2,
+        "delay {} samples",
+        delay * FS
+    );
     for (e, r) in &pairs {
         assert!(
             (e.time_s - r.time_s - delay).abs() * FS < 0.1,
@@ -198,7 +216,10 @@ fn pulse_durations_follow_the_t0_law() {
             .collect();
         assert!(isolated.len() > 5_000);
         let (zeta, theta) = fit_duration_law(&isolated);
-        println!("S {size}: zeta {zeta:.4e} s (set {:.4e}), theta {theta:.4}", 7.88e-4 * size);
+        println!(
+            "S {size}: zeta {zeta:.4e} s (set {:.4e}), theta {theta:.4}",
+            7.88e-4 * size
+        );
         // The width is measured on the sampled pulse (≥ 28 samples at 96 kHz): a 2 %
         // error on ζ and 0.02 on θ cover the width estimator's quantization.
         assert!((theta - 0.29).abs() < 0.02, "theta {theta}");
