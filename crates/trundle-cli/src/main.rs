@@ -4,6 +4,7 @@
 //! trundle render -o out.wav [--preset NAME|PATH] [--set ID=VALUE]… [--seconds S]
 //!                [--sample-rate HZ] [--seed N] [--force-only] [--impacts FILE.csv]
 //!                [--force] [--format pcm24|pcm16|f32] [--normalize-db X | --no-normalize]
+//! trundle soak [--minutes 60] [--sample-rate 384000] [--preset P]   hours at the extremes
 //! trundle presets [--json]     the built-in scenes
 //! trundle params [--json]      every parameter ID, unit, range, default
 //! ```
@@ -18,6 +19,7 @@ mod error;
 mod level;
 mod list;
 mod render;
+mod soak;
 
 use clap::{Parser, Subcommand};
 use error::{failure, CliError};
@@ -42,6 +44,9 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Render for a long time at the extremes (default: an hour at 384 kHz, highest Q),
+    /// checking every sample; writes nothing.
+    Soak(soak::SoakArgs),
     /// List every parameter: the IDs `--set` and preset files take.
     Params {
         /// Print JSON (key, name, unit, kind, range, default, doc).
@@ -71,6 +76,7 @@ fn main() -> ExitCode {
     };
     let result = match &cli.command {
         Command::Render(args) => render::run(args).and_then(|line| emit(&format!("{line}\n"))),
+        Command::Soak(args) => soak::run(args).and_then(|line| emit(&format!("{line}\n"))),
         Command::Presets { json } => emit(&list::presets(*json)),
         Command::Params { json } => emit(&list::params(*json)),
     };
