@@ -1,0 +1,268 @@
+//! # Trundle — the plugin
+//!
+//! A CLAP and VST3 instrument (stereo out, no audio in) running the `trundle-dsp` voice:
+//!
+//! ```text
+//! host params ──► TrundleParams ──(once per sub-block)──► trundle_dsp::Params ──► Voice ──► mono
+//!                  (from PARAMS)                                                   │
+//!                                                    bypass fade ◄─────────────────┘
+//!                                                        │
+//!                                          L = R ◄───────┴──► spectrum tap (editor open only)
+//! ```
+//!
+//! * Sample-accurate automation: nice-plug splits the host buffer at parameter events; the
+//!   voice takes the new targets and smooths them itself (no zipper noise, no clicks).
+//! * Real-time safety: the voice and every buffer are allocated in `activate`; `process`
+//!   never allocates (nice-plug's `assert_process_allocs` is on), locks or logs.
+//! * Transport: with `run = with transport` (default) the ball rolls while the host plays;
+//!   on stop its velocity glides to 0 and the object rings out naturally; a start after
+//!   silence resets the voice, so every playback from silence is the same.
+//! * Bypass fades the output out over 10 ms and back in, never clicking.
+
+use nice_plug::prelude::*;
+use std::sync::Arc;
+use trundle_dsp::{ParamId, Voice};
+
+pub mod editor;
+pub mod params;
+pub mod spectrum;
+
+use params::TrundleParams;
+use spectrum::SpectrumTap;
+
+/// Bypass fade time (seconds).
+const BYPASS_FADE_S: f32 = 0.010;
+/// Silence (seconds of exact zeros) after which a transport start resets the voice.
+const RESET_AFTER_SILENCE_S: f32 = 0.25;
+
+/// The Trundle plugin.
+pub struct Trundle {
+    params: Arc<TrundleParams>,
+    voice: Option<Voice>,
+    dsp: trundle_dsp::Params,
+    mono: Vec<f32>,
+    tap: Arc<SpectrumTap>,
+    sample_rate: f32,
+    bypass_gain: f32,
+    silent_samples: usize,
+    rolling: bool,
+}
+
+impl Default for Trundle {
+    fn default() -> Self {
+        Self {
+            params: Arc::new(TrundleParams::default()),
+            voice: None,
+            dsp: trundle_dsp::Params::default(),
+            mono: Vec::new(),
+            tap: Arc::new(SpectrumTap::default()),
+            sample_rate: 48_000.0,
+            bypass_gain: 1.0,
+            silent_samples: usize::MAX / 2,
+            rolling: false,
+        }
+    }
+}
+
+impl Plugin for Trundle {
+    const NAME: &'static str = "Trundle";
+    const VENDOR: &'static str = "Trundle";
+    const URL: &'static str = "https://example.invalid/trundle";
+    const EMAIL: &'static str = "trundle@example.invalid";
+    const VERSION: &'static str = env!("CARGO_PKG_VERSION");
+
+    const AUDIO_IO_LAYOUTS: &'static [AudioIOLayout] = &[AudioIOLayout {
+        main_input_channels: None,
+        main_output_channels: NonZeroU32::new(2),
+        ..AudioIOLayout::const_default()
+    }];
+    const SAMPLE_ACCURATE_AUTOMATION: bool = true;
+
+    type SysExMessage = ();
+    type BackgroundTask = ();
+    type Editor = nice_plug_egui::EguiEditor<editor::TrundleEditor>;
+
+    fn params(&self) -> Arc<dyn Params> {
+        self.params.clone()
+    }
+
+    fn editor(&mut self, _async_executor: AsyncExecutor<Self>) -> Option<Self::Editor> {
+        editor::create(self.params.clone(), self.tap.clone())
+    }
+
+    fn activate(
+        &mut self,
+        _audio_io_layout: &AudioIOLayout,
+        buffer_config: &BufferConfig,
+        _context: &mut impl ActivateContext<Self>,
+    ) -> bool {
+        self.sample_rate = buffer_config.sample_rate;
+        self.params.to_dsp(&mut self.dsp);
+        let fs = f64::from(buffer_config.sample_rate);
+        match &mut self.voice {
+            Some(v) if v.sample_rate() == trundle_dsp::sanitize_sample_rate(fs) => {}
+            _ => self.voice = Some(Voice::new(fs, &self.dsp)),
+        }
+        let max = (buffer_config.max_buffer_size as usize).max(1);
+        if self.mono.len() < max {
+            self.mono = vec![0.0; max];
+        }
+        self.tap.set_sample_rate(self.sample_rate);
+        true
+    }
+
+    fn reset(&mut self) {
+        if let Some(v) = &mut self.voice {
+            v.reset();
+        }
+        self.silent_samples = usize::MAX / 2;
+        self.bypass_gain = if self.params.bypass.value() { 0.0 } else { 1.0 };
+    }
+
+    fn process(
+        &mut self,
+        buffer: &mut Buffer,
+        _aux: &mut AuxiliaryBuffers,
+        context: &mut impl ProcessContext<Self>,
+    ) -> ProcessStatus {
+        let n = buffer.samples();
+        let Some(voice) = &mut self.voice else {
+            for ch in buffer.as_slice() {
+                ch.fill(0.0);
+            }
+            return ProcessStatus::Normal;
+        };
+        let rolling = self.params.run.value() == 1 || context.transport().playing;
+        self.params.to_dsp(&mut self.dsp);
+        if !rolling {
+            self.dsp.set_clamped(ParamId::Velocity, 0.0);
+        }
+        let silence = (RESET_AFTER_SILENCE_S * self.sample_rate) as usize;
+        if rolling && !self.rolling && self.silent_samples >= silence {
+            voice.reset();
+        }
+        self.rolling = rolling;
+        voice.set_params(&self.dsp);
+
+        let bypass_target = if self.params.bypass.value() { 0.0 } else { 1.0 };
+        let step = 1.0 / (BYPASS_FADE_S * self.sample_rate).max(1.0);
+        let mut done = 0;
+        while done < n {
+            let len = (n - done).min(self.mono.len());
+            let mono = &mut self.mono[..len];
+            voice.process(mono);
+            for x in mono.iter_mut() {
+                if self.bypass_gain != bypass_target {
+                    self.bypass_gain = if self.bypass_gain < bypass_target {
+                        (self.bypass_gain + step).min(bypass_target)
+                    } else {
+                        (self.bypass_gain - step).max(bypass_target)
+                    };
+                }
+                *x *= self.bypass_gain;
+            }
+            if mono.iter().all(|x| *x == 0.0) {
+                self.silent_samples = self.silent_samples.saturating_add(len);
+            } else {
+                self.silent_samples = 0;
+            }
+            if self.params.editor_state.is_open() {
+                self.tap.push(mono);
+            }
+            for ch in buffer.as_slice().iter_mut() {
+                ch[done..done + len].copy_from_slice(mono);
+            }
+            done += len;
+        }
+        ProcessStatus::KeepAlive
+    }
+}
+
+impl ClapPlugin for Trundle {
+    const CLAP_ID: &'static str = "org.trundle.trundle";
+    const CLAP_DESCRIPTION: Option<&'static str> =
+        Some("Rolling, rubbing and scratching sounds from a physically informed model");
+    const CLAP_MANUAL_URL: Option<&'static str> = None;
+    const CLAP_SUPPORT_URL: Option<&'static str> = None;
+    const CLAP_FEATURES: &'static [ClapFeature] = &[
+        ClapFeature::Instrument,
+        ClapFeature::Synthesizer,
+        ClapFeature::Stereo,
+    ];
+}
+
+impl Vst3Plugin for Trundle {
+    const VST3_CLASS_ID: [u8; 16] = *b"TrundleRollSynth";
+    const VST3_SUBCATEGORIES: &'static [Vst3SubCategory] =
+        &[Vst3SubCategory::Instrument, Vst3SubCategory::Synth];
+}
+
+nice_export_clap!(Trundle);
+nice_export_vst3!(Trundle);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use trundle_dsp::params::ParamKind;
+
+    #[test]
+    fn every_table_row_is_a_plugin_parameter_with_its_range_and_default() {
+        let p = TrundleParams::default();
+        let map = p.param_map();
+        for spec in trundle_dsp::PARAMS.iter() {
+            let (_, ptr, _) = map
+                .iter()
+                .find(|(id, _, _)| id == spec.key)
+                .unwrap_or_else(|| panic!("no plugin parameter '{}'", spec.key));
+            // SAFETY: `p` outlives this use of its parameter pointers.
+            unsafe {
+                let plain_default = ptr.preview_plain(ptr.default_normalized_value());
+                assert!(
+                    (f64::from(plain_default) - spec.default).abs()
+                        < 1e-3 * (1.0 + spec.default.abs()),
+                    "{}: default {plain_default} vs {}",
+                    spec.key,
+                    spec.default
+                );
+                let lo = ptr.preview_plain(0.0);
+                let hi = ptr.preview_plain(1.0);
+                assert!(
+                    (f64::from(lo) - spec.min).abs() < 1e-3 * (1.0 + spec.min.abs()),
+                    "{}",
+                    spec.key
+                );
+                assert!(
+                    (f64::from(hi) - spec.max).abs() < 1e-3 * (1.0 + spec.max.abs()),
+                    "{}",
+                    spec.key
+                );
+                if let ParamKind::Enum(names) = spec.kind {
+                    assert_eq!(
+                        ptr.normalized_value_to_string(1.0, false),
+                        names[names.len() - 1]
+                    );
+                }
+            }
+        }
+        assert!(map.iter().any(|(id, _, _)| id == "bypass"));
+        let ids: std::collections::HashSet<_> = map.iter().map(|(id, _, _)| id.clone()).collect();
+        assert_eq!(ids.len(), map.len(), "duplicate parameter ids");
+    }
+
+    #[test]
+    fn values_read_as_people_expect() {
+        use trundle_dsp::params::spec_by_key;
+        let f = |k: &str, v: f64| params::format_value(spec_by_key(k).unwrap(), v);
+        assert_eq!(f("velocity", 0.35), "0.350 m/s");
+        assert_eq!(f("roughness", 0.5), "50 %");
+        assert_eq!(f("gain_db", -6.0), "-6.0 dB");
+        assert_eq!(f("object_size", 1.2), "1.20 m");
+        assert_eq!(f("shape", 3.0), "shell");
+        let s = spec_by_key("roughness").unwrap();
+        assert_eq!(params::parse_value(s, "25 %"), Some(0.25));
+        assert_eq!(
+            params::parse_value(spec_by_key("shape").unwrap(), "bar"),
+            Some(1.0)
+        );
+    }
+}
