@@ -63,6 +63,7 @@
 
 #![warn(missing_docs)]
 
+pub mod action;
 pub mod analysis;
 pub mod dcblock;
 pub mod disk;
@@ -80,6 +81,7 @@ pub mod series;
 pub mod shape;
 pub mod smooth;
 pub mod source;
+pub mod space;
 pub mod surface;
 pub mod voice;
 

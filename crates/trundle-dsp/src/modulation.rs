@@ -11,6 +11,45 @@ pub fn rate_hz(velocity: f64, size: f64) -> f64 {
     3.0 * velocity.max(0.0) / size.max(0.1)
 }
 
+/// How the modulation depth follows the ball's motion.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum AsymmetryLaw {
+    /// Depth m whatever the speed (TASLP eq 7, CMMR's asymmetry control).
+    #[default]
+    Constant,
+    /// Rath (DAFx 2003 §5, eq 4): the force term of an off-centre mass is the second
+    /// derivative of a sinusoidal height, so it grows with the square of the angular speed,
+    /// (v/R)² ∝ ν_m². Depth m·(ν_m/ν_ref)², capped at 1, with ν_ref = 3.75 Hz (the AM rate
+    /// of the default V = 0.5, S = 0.4, where both laws agree).
+    Speed2,
+}
+
+impl AsymmetryLaw {
+    /// From the parameter table's variant index (0 = constant, 1 = speed2).
+    pub fn from_index(i: usize) -> Self {
+        if i == 1 {
+            AsymmetryLaw::Speed2
+        } else {
+            AsymmetryLaw::Constant
+        }
+    }
+}
+
+/// AM rate (Hz) at which [`AsymmetryLaw::Speed2`] gives depth m.
+pub const SPEED2_REFERENCE_HZ: f64 = 3.75;
+
+/// Modulation depth for set depth `m`, velocity V and size S under `law` (in [0, 1]).
+#[inline]
+pub fn depth_at(law: AsymmetryLaw, m: f64, velocity: f64, size: f64) -> f64 {
+    match law {
+        AsymmetryLaw::Constant => m,
+        AsymmetryLaw::Speed2 => {
+            let k = rate_hz(velocity, size) / SPEED2_REFERENCE_HZ;
+            (m * k * k).min(1.0)
+        }
+    }
+}
+
 /// A sinusoidal amplitude modulator with a continuous phase.
 ///
 /// # Allocation

@@ -58,12 +58,34 @@ pub enum ParamId {
     Seed,
     /// Output: the object's sound or the raw force.
     Output,
+    /// Action disk x (rub–scratch–roll).
+    ActionX,
+    /// Action disk y.
+    ActionY,
+    /// How the AM depth follows the speed.
+    AsymmetryLaw,
+    /// Ball position on the object, x.
+    PositionX,
+    /// Ball position on the object, y.
+    PositionY,
+    /// Listening point, x.
+    ListenX,
+    /// Listening point, y.
+    ListenY,
+    /// Amount of position-dependent comb filtering.
+    Comb,
+    /// Ball trajectory.
+    Trajectory,
 }
 
 /// Names of the [`ParamId::Shape`] variants, in index order (see [`crate::shape::Shape`]).
 pub const SHAPE_NAMES: &[&str] = &["string", "bar", "plate", "shell"];
 /// Names of the [`ParamId::Output`] variants, in index order.
 pub const OUTPUT_NAMES: &[&str] = &["object", "force"];
+/// Names of the [`ParamId::AsymmetryLaw`] variants, in index order.
+pub const ASYMMETRY_LAW_NAMES: &[&str] = &["constant", "speed2"];
+/// Names of the [`ParamId::Trajectory`] variants, in index order.
+pub const TRAJECTORY_NAMES: &[&str] = &["manual", "line", "circle"];
 
 /// The description of one parameter.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -92,7 +114,7 @@ const FLOAT: ParamKind = ParamKind::Float { log: false };
 const LOG: ParamKind = ParamKind::Float { log: true };
 
 /// Number of parameters.
-pub const PARAM_COUNT: usize = 14;
+pub const PARAM_COUNT: usize = 23;
 
 /// The parameter table, indexed by [`ParamId`].
 pub const PARAMS: [ParamSpec; PARAM_COUNT] = [
@@ -249,6 +271,105 @@ pub const PARAMS: [ParamSpec; PARAM_COUNT] = [
         default: 0.0,
         kind: ParamKind::Enum(OUTPUT_NAMES),
         doc: "object = the resonating object's sound; force = the raw interaction force before the object",
+    },
+    ParamSpec {
+        id: ParamId::ActionX,
+        key: "action_x",
+        name: "Action X",
+        unit: "",
+        min: -1.0,
+        max: 1.0,
+        default: crate::source::ROLL_X,
+        kind: FLOAT,
+        doc: "Action disk x: rub at angle 0, scratch at 2pi/3, roll at 4pi/3 (the default); inside the disk the three parameter sets blend with their mean, densities as mixtures (CMJ eqs 8-11); points outside the circle are projected onto it",
+    },
+    ParamSpec {
+        id: ParamId::ActionY,
+        key: "action_y",
+        name: "Action Y",
+        unit: "",
+        min: -1.0,
+        max: 1.0,
+        default: crate::source::ROLL_Y,
+        kind: FLOAT,
+        doc: "Action disk y (see action_x)",
+    },
+    ParamSpec {
+        id: ParamId::AsymmetryLaw,
+        key: "asymmetry_law",
+        name: "Asymmetry law",
+        unit: "",
+        min: 0.0,
+        max: 1.0,
+        default: 0.0,
+        kind: ParamKind::Enum(ASYMMETRY_LAW_NAMES),
+        doc: "constant = AM depth m at every speed (TASLP eq 7); speed2 = depth grows with the square of the rolling rate, as Rath's off-centre-mass force (DAFx 2003 eq 4), equal to m at the default speed and size",
+    },
+    ParamSpec {
+        id: ParamId::PositionX,
+        key: "position_x",
+        name: "Position X",
+        unit: "",
+        min: -1.0,
+        max: 1.0,
+        default: 0.3,
+        kind: FLOAT,
+        doc: "Ball position on the object, x (-1 and 1 are the edges); the start point of the line and circle trajectories (CMMR §3.3)",
+    },
+    ParamSpec {
+        id: ParamId::PositionY,
+        key: "position_y",
+        name: "Position Y",
+        unit: "",
+        min: -1.0,
+        max: 1.0,
+        default: 0.2,
+        kind: FLOAT,
+        doc: "Ball position on the object, y (see position_x)",
+    },
+    ParamSpec {
+        id: ParamId::ListenX,
+        key: "listen_x",
+        name: "Listen X",
+        unit: "",
+        min: -1.0,
+        max: 1.0,
+        default: -0.5,
+        kind: FLOAT,
+        doc: "Listening (pick-up) point on the object, x: the image-source delays are path differences to this point (CMMR §3.3)",
+    },
+    ParamSpec {
+        id: ParamId::ListenY,
+        key: "listen_y",
+        name: "Listen Y",
+        unit: "",
+        min: -1.0,
+        max: 1.0,
+        default: -0.4,
+        kind: FLOAT,
+        doc: "Listening point, y (see listen_x)",
+    },
+    ParamSpec {
+        id: ParamId::Comb,
+        key: "comb",
+        name: "Position amount",
+        unit: "",
+        min: 0.0,
+        max: 1.0,
+        default: 0.0,
+        kind: FLOAT,
+        doc: "Amount of position-dependent comb filtering from first-order image sources in the object's four edges (CMMR §3.3); 0 = off (and free)",
+    },
+    ParamSpec {
+        id: ParamId::Trajectory,
+        key: "trajectory",
+        name: "Trajectory",
+        unit: "",
+        min: 0.0,
+        max: 2.0,
+        default: 0.0,
+        kind: ParamKind::Enum(TRAJECTORY_NAMES),
+        doc: "manual = the ball stays at position_x/y; line = back and forth across the object through that point; circle = around the centre through that point; the ball moves at velocity V m/s (CMMR §3.3)",
     },
 ];
 

@@ -12,12 +12,10 @@
 //! AM depth and rate) are interpolated sample by sample. A ball at rest (V = 0, smoothed and
 //! target) generates no impacts at all.
 
+use crate::action::{ActionParams, ActionSeries, ActionStep};
 use crate::lowpass::{cutoff_hz, loudness, Lowpass};
-use crate::modulation::{rate_hz, Modulator};
-use crate::pulse::{
-    duration_s, rolling_zeta_s, PulseEval, PulseShape, PulseTrain, T0_EXPONENT, T0_MAX_S,
-};
-use crate::series::{ImpactSeries, SeriesParams, SeriesStep};
+use crate::modulation::{depth_at, rate_hz, AsymmetryLaw, Modulator};
+use crate::pulse::{duration_s, PulseEval, PulseShape, PulseTrain, T0_MAX_S};
 use crate::smooth::Smoother;
 
 /// One generated impact, as reported for analysis (`--impacts FILE.csv`).
@@ -46,6 +44,12 @@ pub struct SourceControls {
     pub asymmetry: f64,
     /// Sharpness ξ ∈ [0.5, 8].
     pub sharpness: f64,
+    /// Action disk x ∈ [−1, 1] (rub at angle 0, scratch 2π/3, roll 4π/3; CMJ eqs 8–11).
+    pub action_x: f64,
+    /// Action disk y ∈ [−1, 1].
+    pub action_y: f64,
+    /// How the AM depth follows the ball speed.
+    pub asymmetry_law: AsymmetryLaw,
 }
 
 impl Default for SourceControls {
@@ -56,9 +60,21 @@ impl Default for SourceControls {
             roughness: 0.5,
             asymmetry: 0.3,
             sharpness: 1.0,
+            action_x: ROLL_X,
+            action_y: ROLL_Y,
+            asymmetry_law: AsymmetryLaw::Constant,
         }
     }
 }
+
+/// x of the roll anchor (angle 4π/3) on the action disk.
+pub const ROLL_X: f64 = -0.5;
+/// y of the roll anchor (angle 4π/3) on the action disk.
+pub const ROLL_Y: f64 = -0.866_025_403_784_438_6;
+
+/// Shortest time between two rebuilds of the action's quantile tables while the cursor
+/// (or ρ, S) moves, in seconds; the last position is always applied exactly.
+pub const ACTION_UPDATE_S: f64 = 0.004;
 
 /// Capacity of the impact report ring (records); older unread records are dropped.
 pub const IMPACT_LOG_CAPACITY: usize = 1 << 15;
@@ -70,12 +86,12 @@ pub const IMPACT_LOG_CAPACITY: usize = 1 << 15;
 #[derive(Clone, Debug)]
 pub struct Source {
     fs: f64,
-    series: ImpactSeries,
+    series: ActionSeries,
     shape: PulseShape,
     train: PulseTrain,
     /// Centre of the pending impact, in samples from the next output sample.
     next_center: f64,
-    pending: SeriesStep,
+    pending: ActionStep,
     am: Modulator,
     lp: Lowpass,
     /// Samples elapsed since reset (exact in f64 for 2⁵³ samples: 740 years at 384 kHz).
@@ -85,8 +101,15 @@ pub struct Source {
     roughness: Smoother,
     asymmetry: Smoother,
     sharpness: Smoother,
-    /// Roughness the series parameters were last computed for.
-    series_rho: f64,
+    action_x: Smoother,
+    action_y: Smoother,
+    asymmetry_law: AsymmetryLaw,
+    /// (x, y, S, ρ) the action parameters were last computed for.
+    action_at: [f64; 4],
+    /// Chunks since the action densities were last rebuilt.
+    action_age: usize,
+    /// The densities in force lag behind the controls (a rebuild is due).
+    action_stale: bool,
     log: Vec<ImpactRecord>,
     log_head: usize,
     log_len: usize,
@@ -100,11 +123,20 @@ impl Source {
         let fs = crate::sanitize_sample_rate(sample_rate_hz);
         let mut s = Self {
             fs,
-            series: ImpactSeries::new(SeriesParams::table_i(controls.roughness), seed),
+            series: ActionSeries::new(
+                ActionParams::at(
+                    controls.action_x,
+                    controls.action_y,
+                    controls.size,
+                    controls.roughness,
+                    fs,
+                ),
+                seed,
+            ),
             shape: PulseShape::new(controls.sharpness, PulseEval::Table),
             train: PulseTrain::new(fs),
             next_center: 0.0,
-            pending: SeriesStep {
+            pending: ActionStep {
                 amplitude: 0.0,
                 interval_s: 0.0,
                 raw_amplitude: 0.0,
@@ -118,7 +150,12 @@ impl Source {
             roughness: Smoother::new(controls.roughness),
             asymmetry: Smoother::new(controls.asymmetry),
             sharpness: Smoother::new(controls.sharpness),
-            series_rho: controls.roughness,
+            action_x: Smoother::new(controls.action_x),
+            action_y: Smoother::new(controls.action_y),
+            asymmetry_law: controls.asymmetry_law,
+            action_at: [f64::NAN; 4],
+            action_age: 0,
+            action_stale: false,
             log: vec![
                 ImpactRecord {
                     time_s: 0.0,
@@ -164,12 +201,12 @@ impl Source {
             &mut self.roughness,
             &mut self.asymmetry,
             &mut self.sharpness,
+            &mut self.action_x,
+            &mut self.action_y,
         ] {
             s.snap_to_target();
         }
-        self.series_rho = self.roughness.value();
-        self.series
-            .set_params(SeriesParams::table_i(self.series_rho));
+        self.update_action(true);
         self.shape.set_sharpness(self.sharpness.value());
         self.series.reset();
         self.train.reset();
@@ -191,6 +228,54 @@ impl Source {
         self.roughness.set_target(c.roughness.clamp(0.0, 1.0));
         self.asymmetry.set_target(c.asymmetry.clamp(0.0, 1.0));
         self.sharpness.set_target(c.sharpness.clamp(0.5, 8.0));
+        self.action_x.set_target(c.action_x.clamp(-1.0, 1.0));
+        self.action_y.set_target(c.action_y.clamp(-1.0, 1.0));
+        self.asymmetry_law = c.asymmetry_law;
+    }
+
+    /// Recompute the blended action parameters if (x, y, S, ρ) moved. Scalars (ζ, θ,
+    /// filters, means) follow every chunk; a mixed density's quantile table (~50 µs to
+    /// build) is rebuilt at most every [`ACTION_UPDATE_S`] while the controls move, and
+    /// always once they have arrived. Real-time safe.
+    fn update_action(&mut self, force: bool) {
+        let at = [
+            self.action_x.value(),
+            self.action_y.value(),
+            self.size.value(),
+            self.roughness.value(),
+        ];
+        self.action_age = self.action_age.saturating_add(1);
+        if at == self.action_at && !force && !self.action_stale {
+            return;
+        }
+        let moving = self.action_x.is_moving()
+            || self.action_y.is_moving()
+            || self.size.is_moving()
+            || self.roughness.is_moving();
+        let every = ((ACTION_UPDATE_S * self.fs) / crate::CHUNK as f64).ceil() as usize;
+        let mut next = ActionParams::at(at[0], at[1], at[2], at[3], self.fs);
+        let current = *self.series.params();
+        let tables_change = (next.amplitude != current.amplitude
+            && next.amplitude.single().is_none())
+            || (next.interval_s != current.interval_s && next.interval_s.single().is_none());
+        if !force && moving && tables_change && self.action_age < every.max(1) {
+            // Keep the densities (and the weights they go with) until the next rebuild;
+            // everything else follows now.
+            next.amplitude = current.amplitude;
+            next.interval_s = current.interval_s;
+            next.weights = current.weights;
+            self.action_stale = true;
+        } else {
+            self.action_age = 0;
+            self.action_stale = false;
+        }
+        self.action_at = at;
+        self.series.set_params(next);
+    }
+
+    /// The action parameters in force (weights, blended filters and densities).
+    pub fn action(&self) -> &ActionParams {
+        self.series.params()
     }
 
     /// Jump every smoothed control to its target (first block of a render).
@@ -200,9 +285,9 @@ impl Source {
         self.roughness.snap_to_target();
         self.asymmetry.snap_to_target();
         self.sharpness.snap_to_target();
-        self.series_rho = self.roughness.value();
-        self.series
-            .set_params(SeriesParams::table_i(self.series_rho));
+        self.action_x.snap_to_target();
+        self.action_y.snap_to_target();
+        self.update_action(true);
         self.shape.set_sharpness(self.sharpness.value());
     }
 
@@ -254,27 +339,26 @@ impl Source {
         let fs = self.fs;
         let (s0, s1) = self.size.advance(n, fs);
         let (v0, v1) = self.velocity.advance(n, fs);
-        let (_, rho) = self.roughness.advance(n, fs);
+        self.roughness.advance(n, fs);
         let (m0, m1) = self.asymmetry.advance(n, fs);
         let (_, xi) = self.sharpness.advance(n, fs);
-        if rho != self.series_rho {
-            self.series.set_params(SeriesParams::table_i(rho));
-            self.series_rho = rho;
-        }
+        self.action_x.advance(n, fs);
+        self.action_y.advance(n, fs);
+        self.update_action(false);
         self.shape.set_sharpness(xi);
 
         if !(v0 == 0.0 && v1 == 0.0) {
             // Spawn every impact whose pulse may start inside this chunk.
-            let zeta = rolling_zeta_s(s1);
+            let ap = *self.series.params();
             let lead = 0.5 * T0_MAX_S * fs;
             while self.next_center - lead < n as f64 {
                 let step = self.pending;
-                let t0 = duration_s(zeta, T0_EXPONENT, step.amplitude);
+                let t0 = duration_s(ap.zeta_s, ap.theta, step.amplitude.abs());
                 self.train.add(
                     &self.shape,
                     self.next_center,
                     t0 * fs,
-                    step.amplitude as f32,
+                    (step.amplitude * ap.pulse_gain) as f32,
                 );
                 if self.log_enabled {
                     self.record(ImpactRecord {
@@ -306,10 +390,14 @@ impl Source {
                 *x *= l;
             }
         }
-        // AM, ν_m = 3V/S (TASLP eq 17).
+        // AM, ν_m = 3V/S (TASLP eq 17); depth constant or ∝ V² (Rath §5).
+        let law = self.asymmetry_law;
         self.am.apply(
             out,
-            (m0 as f32, m1 as f32),
+            (
+                depth_at(law, m0, v0, s0) as f32,
+                depth_at(law, m1, v1, s1) as f32,
+            ),
             (rate_hz(v0, s0) / fs, rate_hz(v1, s1) / fs),
         );
         // Velocity low-pass.

@@ -1,8 +1,8 @@
 //! One ball on one object: the whole chain, driven by a [`Params`] set.
 //!
 //! ```text
-//! Params ─► Source (series → pulses → AM → low-pass) ─► force ─► Object (modal bank) ─► × gain ─► out
-//!                                                       └──────────── output = force ───┘
+//! Params ─► Source (series → pulses → AM → low-pass) ─► force ─► Space (position comb) ─► Object (modal bank) ─► × gain ─► out
+//!                                                       └──────────── output = force ─────────────────────────┘
 //! ```
 //!
 //! Lifecycle ([`crate`] docs): [`Voice::new`] allocates; [`Voice::set_sample_rate`] may
@@ -11,11 +11,13 @@
 //! the same seed and parameters give the same samples whether rendered in blocks of 1 or
 //! 8192.
 
+use crate::modulation::AsymmetryLaw;
 use crate::object::{Object, ObjectControls};
 use crate::params::{ParamId, Params};
 use crate::shape::Shape;
 use crate::smooth::Smoother;
 use crate::source::{ImpactRecord, Source, SourceControls};
+use crate::space::{Space, SpaceControls, Trajectory};
 use crate::CHUNK;
 
 /// Gain applied to the raw force when the output is the force (its peaks are then about
@@ -31,6 +33,7 @@ pub struct Voice {
     fs: f64,
     params: Params,
     source: Source,
+    space: Space,
     object: Object,
     gain: Smoother,
     /// 0 = object output, 1 = force output (crossfaded over the smoothing time).
@@ -51,6 +54,20 @@ fn source_controls(p: &Params) -> SourceControls {
         roughness: p.get(ParamId::Roughness),
         asymmetry: p.get(ParamId::Asymmetry),
         sharpness: p.get(ParamId::Sharpness),
+        action_x: p.get(ParamId::ActionX),
+        action_y: p.get(ParamId::ActionY),
+        asymmetry_law: AsymmetryLaw::from_index(p.get(ParamId::AsymmetryLaw) as usize),
+    }
+}
+
+fn space_controls(p: &Params) -> SpaceControls {
+    SpaceControls {
+        amount: p.get(ParamId::Comb),
+        position: (p.get(ParamId::PositionX), p.get(ParamId::PositionY)),
+        listen: (p.get(ParamId::ListenX), p.get(ParamId::ListenY)),
+        trajectory: Trajectory::from_index(p.get(ParamId::Trajectory) as usize),
+        size_m: p.get(ParamId::ObjectSize),
+        velocity: p.get(ParamId::Velocity),
     }
 }
 
@@ -74,6 +91,7 @@ impl Voice {
             fs,
             params: *params,
             source: Source::new(fs, source_controls(params), seed),
+            space: Space::new(fs, space_controls(params)),
             object: Object::new(fs, object_controls(params)),
             gain: Smoother::new(params.gain_linear()),
             force_mix: Smoother::new(if params.force_only() { 1.0 } else { 0.0 }),
@@ -96,6 +114,7 @@ impl Voice {
     pub fn set_sample_rate(&mut self, sample_rate_hz: f64) {
         self.fs = crate::sanitize_sample_rate(sample_rate_hz);
         self.source.set_sample_rate(self.fs);
+        self.space.set_sample_rate(self.fs);
         self.object.set_sample_rate(self.fs);
         self.reset();
     }
@@ -105,6 +124,7 @@ impl Voice {
     pub fn reset(&mut self) {
         self.source.set_seed(self.seed);
         self.source.reset();
+        self.space.reset();
         self.object.reset();
         self.gain.snap_to_target();
         self.force_mix.snap_to_target();
@@ -123,6 +143,7 @@ impl Voice {
     pub fn set_params(&mut self, params: &Params) {
         self.params = *params;
         self.source.set_controls(source_controls(params));
+        self.space.set_controls(space_controls(params));
         self.object.set_controls(object_controls(params));
         self.gain.set_target(params.gain_linear());
         self.force_mix
@@ -145,6 +166,21 @@ impl Voice {
         self.source.drain_impacts(f)
     }
 
+    /// The ball's current position on the object (normalised, see [`crate::space`]).
+    pub fn ball_position(&self) -> (f64, f64) {
+        self.space.ball()
+    }
+
+    /// The position stage, for inspection.
+    pub fn space(&self) -> &Space {
+        &self.space
+    }
+
+    /// The source (action parameters in force), for inspection.
+    pub fn source(&self) -> &Source {
+        &self.source
+    }
+
     /// The object (modes, active count) for inspection.
     pub fn object(&self) -> &Object {
         &self.object
@@ -159,6 +195,7 @@ impl Voice {
     pub fn process(&mut self, out: &mut [f32]) {
         if !self.started {
             self.source.snap_controls();
+            self.space.snap_controls();
             self.object.snap_controls();
             self.gain.snap_to_target();
             self.force_mix.snap_to_target();
@@ -180,6 +217,7 @@ impl Voice {
     fn render_chunk(&mut self) {
         let fs = self.fs;
         self.source.process_chunk(&mut self.force);
+        self.space.process(&mut self.force);
         self.object.process_chunk(&self.force, &mut self.sound);
         let (g0, g1) = self.gain.advance(CHUNK, fs);
         let (x0, x1) = self.force_mix.advance(CHUNK, fs);
