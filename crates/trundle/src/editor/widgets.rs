@@ -1,0 +1,468 @@
+//! The editor's controls, drawn into rectangles the editor's layout hands them.
+//!
+//! Every control talks to the host the same way: `begin_set_parameter` when the pointer goes
+//! down on it, `set_parameter` while it moves, `end_set_parameter` when it is released, so a
+//! host recording automation sees one gesture per drag. One-shot changes (a click on a
+//! selector, a double-click reset, a wheel step) are a complete begin/set/end of their own.
+
+use super::Theme;
+use egui::{Align2, Color32, CursorIcon, FontId, Id, Pos2, Rect, Response, Sense, Stroke, Vec2};
+use nice_plug::prelude::*;
+
+/// Normalized change per point of vertical drag (a full turn is 200 points at scale 1).
+const COARSE_PER_PT: f32 = 1.0 / 200.0;
+/// Normalized change per point with shift held (ten times finer).
+const FINE_PER_PT: f32 = COARSE_PER_PT / 10.0;
+/// Normalized change per point of mouse wheel.
+const WHEEL_PER_PT: f32 = 1.0 / 1_000.0;
+/// The dial's radius as a fraction of its cell's width.
+pub const KNOB_RADIUS_PER_WIDTH: f32 = 0.42;
+/// The knob's travel: 270° starting at the bottom left (screen angles, y down).
+const ARC_START: f32 = 0.75 * std::f32::consts::PI;
+const ARC_SWEEP: f32 = 1.5 * std::f32::consts::PI;
+
+/// A drag gesture in progress, kept in egui's temporary memory under the widget's id.
+#[derive(Clone, Copy, Debug, Default)]
+struct Gesture {
+    active: bool,
+    /// The unsnapped normalized value the drag has reached (integer parameters step only
+    /// when it crosses a step).
+    normalized: f32,
+}
+
+fn gesture(ui: &egui::Ui, id: Id) -> Gesture {
+    ui.data(|d| d.get_temp(id)).unwrap_or_default()
+}
+
+fn store_gesture(ui: &egui::Ui, id: Id, g: Gesture) {
+    ui.data_mut(|d| d.insert_temp(id, g));
+}
+
+/// Set `param` to `plain` as one complete gesture (begin/set/end).
+pub fn set_once<P: Param>(setter: &ParamSetter, param: &P, plain: P::Plain) {
+    setter.begin_set_parameter(param);
+    setter.set_parameter(param, plain);
+    setter.end_set_parameter(param);
+}
+
+/// A point on a circle of radius `r` around `c` at screen angle `a`.
+fn polar(c: Pos2, r: f32, a: f32) -> Pos2 {
+    c + Vec2::new(a.cos(), a.sin()) * r
+}
+
+/// An arc as a polyline from angle `a0` to `a1`.
+fn arc(c: Pos2, r: f32, a0: f32, a1: f32, stroke: Stroke) -> egui::Shape {
+    let n = ((a1 - a0).abs() / 0.08).ceil().max(2.0) as usize;
+    let points = (0..=n)
+        .map(|i| polar(c, r, a0 + (a1 - a0) * i as f32 / n as f32))
+        .collect();
+    egui::Shape::line(points, stroke)
+}
+
+/// A rotary knob for `param` filling `rect`: the name above, the value below in the
+/// parameter's own formatting.
+///
+/// * Drag vertically to turn (up = more), shift-drag for fine control.
+/// * Double-click (or ctrl/cmd-click) resets to the default.
+/// * The mouse wheel turns it in small steps.
+/// * Hovering shows `doc`.
+pub fn knob<P: Param>(
+    ui: &mut egui::Ui,
+    rect: Rect,
+    param: &P,
+    setter: &ParamSetter,
+    label: &str,
+    doc: &str,
+    t: &Theme,
+) -> Response {
+    let id = ui.scope_id().with(("knob", param.name()));
+    let resp = ui.interact(rect, id, Sense::click_and_drag());
+    let mut g = gesture(ui, id);
+    let down = resp.is_pointer_button_down_on();
+    let (dy, shift, command, wheel) = ui.input(|i| {
+        (
+            i.pointer.delta().y,
+            i.modifiers.shift,
+            i.modifiers.command,
+            i.smooth_scroll_delta.x + i.smooth_scroll_delta.y,
+        )
+    });
+
+    if down && !g.active {
+        setter.begin_set_parameter(param);
+        g = Gesture {
+            active: true,
+            normalized: param.unmodulated_normalized_value(),
+        };
+        if command {
+            setter.set_parameter(param, param.default_plain_value());
+            g.normalized = param.default_normalized_value();
+        }
+    }
+    if g.active && down && dy != 0.0 && !command {
+        let per_pt = if shift { FINE_PER_PT } else { COARSE_PER_PT } / t.scale;
+        g.normalized = (g.normalized - dy * per_pt).clamp(0.0, 1.0);
+        let plain = param.preview_plain(g.normalized);
+        if plain != param.unmodulated_plain_value() {
+            setter.set_parameter(param, plain);
+        }
+    }
+    if resp.double_clicked() {
+        if g.active {
+            setter.set_parameter(param, param.default_plain_value());
+        } else {
+            set_once(setter, param, param.default_plain_value());
+        }
+        g.normalized = param.default_normalized_value();
+    }
+    if g.active && !down {
+        setter.end_set_parameter(param);
+        g.active = false;
+    }
+    if !g.active && resp.hovered() && wheel != 0.0 {
+        let per_pt = if shift {
+            WHEEL_PER_PT / 10.0
+        } else {
+            WHEEL_PER_PT
+        };
+        let n = (param.unmodulated_normalized_value() + wheel * per_pt).clamp(0.0, 1.0);
+        let mut plain = param.preview_plain(n);
+        if plain == param.unmodulated_plain_value() {
+            // A stepped parameter: one wheel event moves at least one step.
+            plain = if wheel > 0.0 {
+                param.next_step(plain, shift)
+            } else {
+                param.previous_step(plain, shift)
+            };
+        }
+        set_once(setter, param, plain);
+    }
+    store_gesture(ui, id, g);
+
+    if resp.hovered() || g.active {
+        ui.ctx().set_cursor_icon(CursorIcon::ResizeVertical);
+    }
+
+    // Drawing.
+    let painter = ui.painter_at(rect.expand(2.0));
+    let label_h = t.font_small * 1.5;
+    let value_h = t.font_value * 1.6;
+    let free_h = rect.height() - label_h - value_h;
+    let r = (0.5 * free_h)
+        .min(KNOB_RADIUS_PER_WIDTH * rect.width())
+        .max(4.0);
+    let c = Pos2::new(rect.center().x, rect.top() + label_h + 0.5 * free_h);
+    painter.text(
+        Pos2::new(c.x, rect.top()),
+        Align2::CENTER_TOP,
+        label,
+        FontId::proportional(t.font_small),
+        t.text_dim,
+    );
+
+    let lit = resp.hovered() || g.active;
+    let track_w = (0.11 * r).max(2.0);
+    let value = param.modulated_normalized_value();
+    let a_val = ARC_START + ARC_SWEEP * value;
+    painter.add(arc(
+        c,
+        r,
+        ARC_START,
+        ARC_START + ARC_SWEEP,
+        Stroke::new(track_w, t.track),
+    ));
+    if value > 0.0 {
+        let colour = if lit { t.accent_hi } else { t.accent };
+        painter.add(arc(c, r, ARC_START, a_val, Stroke::new(track_w, colour)));
+    }
+    let body_r = r - 2.2 * track_w;
+    painter.circle_filled(c + Vec2::new(0.0, 0.06 * body_r), body_r, t.shadow);
+    painter.circle(
+        c,
+        body_r,
+        if lit { t.knob_hi } else { t.knob },
+        Stroke::new(1.0, t.knob_rim),
+    );
+    painter.line_segment(
+        [
+            polar(c, 0.35 * body_r, a_val),
+            polar(c, 0.88 * body_r, a_val),
+        ],
+        Stroke::new((0.09 * r).max(1.5), t.text),
+    );
+
+    let text = param.normalized_value_to_string(value, true);
+    painter.text(
+        Pos2::new(c.x, rect.bottom()),
+        Align2::CENTER_BOTTOM,
+        text,
+        FontId::proportional(t.font_value),
+        if g.active { t.accent_hi } else { t.text },
+    );
+
+    if g.active {
+        resp
+    } else {
+        resp.on_hover_text(doc)
+    }
+}
+
+/// A row (or column) of buttons choosing one value of an integer or enumerated `param`, each
+/// named by the parameter's own formatting. In a row, each button is as wide as its name
+/// needs plus an equal share of the rest; names shrink if the row is too narrow. A click is
+/// one complete gesture.
+pub fn selector(
+    ui: &mut egui::Ui,
+    rect: Rect,
+    param: &IntParam,
+    setter: &ParamSetter,
+    vertical: bool,
+    doc: &str,
+    t: &Theme,
+) {
+    let lo = param.preview_plain(0.0);
+    let hi = param.preview_plain(1.0);
+    let n = (hi - lo + 1).clamp(1, 16) as usize;
+    let current = param.unmodulated_plain_value();
+    let painter = ui.painter_at(rect.expand(1.0));
+    let radius = t.radius_small();
+    let pad = 0.9 * t.font_small;
+    let layout = |font_size: f32| -> Vec<std::sync::Arc<egui::Galley>> {
+        (0..n)
+            .map(|i| {
+                let value = lo + i as i32;
+                let name = param.normalized_value_to_string(param.preview_normalized(value), true);
+                painter.layout_no_wrap(name, FontId::proportional(font_size), Color32::PLACEHOLDER)
+            })
+            .collect()
+    };
+    let mut galleys = layout(t.font_small);
+    let text_w: f32 = galleys.iter().map(|g| g.size().x).sum();
+    if !vertical && text_w + n as f32 * pad > rect.width() {
+        let shrink = ((rect.width() - n as f32 * pad) / text_w).clamp(0.5, 1.0);
+        galleys = layout(t.font_small * shrink);
+    }
+    let text_w: f32 = galleys.iter().map(|g| g.size().x).sum();
+    let share = ((rect.width() - text_w) / n as f32).max(0.0);
+
+    painter.rect_filled(rect, radius, t.well);
+    let mut x = rect.left();
+    for (i, galley) in galleys.into_iter().enumerate() {
+        let value = lo + i as i32;
+        let cell = if vertical {
+            let h = rect.height() / n as f32;
+            Rect::from_min_size(
+                Pos2::new(rect.left(), rect.top() + h * i as f32),
+                Vec2::new(rect.width(), h),
+            )
+        } else {
+            let w = galley.size().x + share;
+            x += w;
+            Rect::from_min_size(Pos2::new(x - w, rect.top()), Vec2::new(w, rect.height()))
+        };
+        let id = ui.scope_id().with(("selector", param.name(), i));
+        let resp = ui.interact(cell, id, Sense::click());
+        if resp.clicked() && value != current {
+            set_once(setter, param, value);
+        }
+        let selected = value == param.unmodulated_plain_value();
+        let inner = cell.shrink(0.15 * t.font_small);
+        if selected {
+            painter.rect_filled(inner, radius, t.accent);
+        } else if resp.hovered() {
+            painter.rect_filled(inner, radius, t.well_hi);
+        }
+        let pos = inner.center() - 0.5 * galley.size();
+        painter.galley(pos, galley, if selected { t.on_accent } else { t.text });
+        resp.on_hover_text(doc);
+    }
+    painter.rect_stroke(
+        rect,
+        radius,
+        Stroke::new(1.0, t.border),
+        egui::StrokeKind::Inside,
+    );
+}
+
+/// A pill-shaped switch for a boolean `param` showing `label`; lit in `on_colour` when on.
+pub fn toggle(
+    ui: &mut egui::Ui,
+    rect: Rect,
+    param: &BoolParam,
+    setter: &ParamSetter,
+    label: &str,
+    on_colour: Color32,
+    t: &Theme,
+) -> Response {
+    let id = ui.scope_id().with(("toggle", param.name()));
+    let resp = ui.interact(rect, id, Sense::click());
+    if resp.clicked() {
+        set_once(setter, param, !param.unmodulated_plain_value());
+    }
+    let on = param.unmodulated_plain_value();
+    let painter = ui.painter_at(rect.expand(1.0));
+    let radius = 0.5 * rect.height();
+    let fill = if on {
+        on_colour
+    } else if resp.hovered() {
+        t.well_hi
+    } else {
+        t.well
+    };
+    painter.rect(
+        rect,
+        radius,
+        fill,
+        Stroke::new(1.0, if on { on_colour } else { t.border }),
+        egui::StrokeKind::Inside,
+    );
+    let dot = Pos2::new(rect.left() + radius, rect.center().y);
+    painter.circle_filled(
+        dot,
+        0.28 * rect.height(),
+        if on { t.on_accent } else { t.text_dim },
+    );
+    painter.text(
+        Pos2::new(rect.center().x + 0.5 * radius, rect.center().y),
+        Align2::CENTER_CENTER,
+        label,
+        FontId::proportional(t.font_small),
+        if on { t.on_accent } else { t.text },
+    );
+    resp
+}
+
+/// A small flat button with `text`; returns its response.
+pub fn button(ui: &mut egui::Ui, rect: Rect, id: Id, text: &str, t: &Theme) -> Response {
+    let resp = ui.interact(rect, id, Sense::click());
+    let painter = ui.painter_at(rect.expand(1.0));
+    let fill = if resp.is_pointer_button_down_on() {
+        t.accent
+    } else if resp.hovered() {
+        t.well_hi
+    } else {
+        t.well
+    };
+    painter.rect(
+        rect,
+        t.radius_small(),
+        fill,
+        Stroke::new(1.0, t.border),
+        egui::StrokeKind::Inside,
+    );
+    painter.text(
+        rect.center(),
+        Align2::CENTER_CENTER,
+        text,
+        FontId::proportional(t.font_small),
+        t.text,
+    );
+    resp
+}
+
+/// A small flat button with a triangle pointing right (`right`) or left.
+pub fn arrow_button(ui: &mut egui::Ui, rect: Rect, id: Id, right: bool, t: &Theme) -> Response {
+    let resp = button(ui, rect, id, "", t);
+    let c = rect.center();
+    let h = 0.22 * rect.height();
+    let d = if right { 1.0 } else { -1.0 };
+    let tip = c + Vec2::new(d * 0.8 * h, 0.0);
+    let back_top = c + Vec2::new(-d * 0.6 * h, -h);
+    let back_bottom = c + Vec2::new(-d * 0.6 * h, h);
+    let colour = if resp.hovered() { t.accent_hi } else { t.text };
+    ui.painter().add(egui::Shape::convex_polygon(
+        vec![tip, back_bottom, back_top],
+        colour,
+        Stroke::NONE,
+    ));
+    resp
+}
+
+/// A numeric field for a large integer `param` (the seed): drag horizontally or vertically
+/// to step it by one per few points, double-click to reset. One drag is one gesture.
+pub fn int_field(
+    ui: &mut egui::Ui,
+    rect: Rect,
+    param: &IntParam,
+    setter: &ParamSetter,
+    doc: &str,
+    t: &Theme,
+) -> Response {
+    let id = ui.scope_id().with(("int_field", param.name()));
+    let resp = ui.interact(rect, id, Sense::click_and_drag());
+    let mut g = gesture(ui, id);
+    let down = resp.is_pointer_button_down_on();
+    let (delta, shift) = ui.input(|i| (i.pointer.delta(), i.modifiers.shift));
+    if down && !g.active {
+        setter.begin_set_parameter(param);
+        // `normalized` holds the fractional step position here.
+        g = Gesture {
+            active: true,
+            normalized: 0.0,
+        };
+    }
+    if g.active && down {
+        let per_pt = if shift { 0.05 } else { 0.25 } / t.scale;
+        g.normalized += (delta.x - delta.y) * per_pt;
+        let steps = g.normalized.trunc();
+        if steps != 0.0 {
+            g.normalized -= steps;
+            let lo = param.preview_plain(0.0);
+            let hi = param.preview_plain(1.0);
+            let v = (i64::from(param.unmodulated_plain_value()) + steps as i64)
+                .clamp(i64::from(lo), i64::from(hi)) as i32;
+            setter.set_parameter(param, v);
+        }
+    }
+    if resp.double_clicked() {
+        if g.active {
+            setter.set_parameter(param, param.default_plain_value());
+        } else {
+            set_once(setter, param, param.default_plain_value());
+        }
+    }
+    if g.active && !down {
+        setter.end_set_parameter(param);
+        g.active = false;
+    }
+    store_gesture(ui, id, g);
+    if resp.hovered() || g.active {
+        ui.ctx().set_cursor_icon(CursorIcon::ResizeHorizontal);
+    }
+
+    let painter = ui.painter_at(rect.expand(1.0));
+    painter.rect(
+        rect,
+        t.radius_small(),
+        if resp.hovered() || g.active {
+            t.well_hi
+        } else {
+            t.well
+        },
+        Stroke::new(1.0, t.border),
+        egui::StrokeKind::Inside,
+    );
+    painter.text(
+        rect.center(),
+        Align2::CENTER_CENTER,
+        param.normalized_value_to_string(param.unmodulated_normalized_value(), true),
+        FontId::monospace(t.font_value),
+        if g.active { t.accent_hi } else { t.text },
+    );
+    if g.active {
+        resp
+    } else {
+        resp.on_hover_text(doc)
+    }
+}
+
+/// A caption in the theme's small dim style at `pos`, aligned by `align`.
+pub fn caption(ui: &egui::Ui, pos: Pos2, align: Align2, text: &str, t: &Theme) -> Rect {
+    ui.painter().text(
+        pos,
+        align,
+        text,
+        FontId::proportional(t.font_small),
+        t.text_dim,
+    )
+}
