@@ -26,7 +26,7 @@ use std::io::{self, BufReader, BufWriter, IsTerminal, Read, Seek, SeekFrom, Writ
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use trundle_dsp::params::{spec_by_key, ParamId, OUTPUT_NAMES};
-use trundle_dsp::preset::{Preset, DEFAULT_PRESET};
+use trundle_dsp::preset::{Lane, Preset, DEFAULT_PRESET};
 use trundle_dsp::{ImpactRecord, Params, Voice};
 
 /// Length of a render unless `--seconds` says otherwise.
@@ -184,6 +184,8 @@ enum LevelMode {
 #[derive(Debug)]
 struct Plan {
     params: Params,
+    /// The preset's keyframe lanes (lanes of parameters given with --set are dropped).
+    automation: Vec<Lane>,
     preset_name: String,
     sample_rate: u32,
     frames: u64,
@@ -233,6 +235,7 @@ fn plan(args: &RenderArgs) -> Result<Plan, CliError> {
 
     let preset = load_preset(&args.preset)?;
     let mut params = preset.params;
+    let mut automation = preset.automation.clone();
 
     let mut set_seed: Option<f64> = None;
     let mut set_output: Option<f64> = None;
@@ -251,6 +254,8 @@ fn plan(args: &RenderArgs) -> Result<Plan, CliError> {
             .set_text(key, value)
             .map_err(|e| input(format!("--set {}: {e}", quote(item))))?;
         if let Some(spec) = spec_by_key(key) {
+            // --set wins over the preset's automation of that parameter.
+            automation.retain(|l| l.id != spec.id);
             match spec.id {
                 ParamId::Seed => set_seed = Some(params.get(ParamId::Seed)),
                 ParamId::Output => set_output = Some(params.get(ParamId::Output)),
@@ -314,6 +319,7 @@ fn plan(args: &RenderArgs) -> Result<Plan, CliError> {
 
     Ok(Plan {
         params,
+        automation,
         preset_name: preset.name,
         sample_rate,
         frames,
@@ -744,10 +750,17 @@ struct Impacts {
     dropped: u64,
 }
 
+/// Samples between two applications of a preset's automation lanes (5.3 ms at 48 kHz; the
+/// voice smooths every change over 12 ms, so the lanes glide without steps).
+pub const AUTOMATION_STEP: usize = 256;
+
 /// Run the voice for `frames` samples in blocks of [`BLOCK`]; drain impacts after each
-/// block; hand each block to `sink`.
+/// block; hand each block to `sink`. With automation, the lanes are applied every
+/// [`AUTOMATION_STEP`] samples.
+#[allow(clippy::too_many_arguments)]
 fn render_pass(
     voice: &mut Voice,
+    plan: &Plan,
     frames: u64,
     csv: &mut Option<CsvOut>,
     impacts: &mut Impacts,
@@ -759,7 +772,20 @@ fn render_pass(
     while done < frames {
         let n = (frames - done).min(BLOCK as u64) as usize;
         let out = &mut block[..n];
-        voice.process(out);
+        if plan.automation.is_empty() {
+            voice.process(out);
+        } else {
+            let fs = f64::from(plan.sample_rate);
+            for (k, piece) in out.chunks_mut(AUTOMATION_STEP).enumerate() {
+                let t = (done + (k * AUTOMATION_STEP) as u64) as f64 / fs;
+                let mut p = plan.params;
+                for lane in &plan.automation {
+                    p.set_clamped(lane.id, lane.value_at(t));
+                }
+                voice.set_params(&p);
+                voice.process(piece);
+            }
+        }
         let count = &mut impacts.count;
         impacts.dropped += voice.drain_impacts(|r| {
             *count += 1;
@@ -807,6 +833,7 @@ fn execute(plan: &Plan) -> Result<String, CliError> {
             let mut touched = 0u64;
             render_pass(
                 &mut voice,
+                plan,
                 plan.frames,
                 &mut csv,
                 &mut impacts,
@@ -835,6 +862,7 @@ fn execute(plan: &Plan) -> Result<String, CliError> {
             let mut peak = 0f64;
             render_pass(
                 &mut voice,
+                plan,
                 plan.frames,
                 &mut csv,
                 &mut impacts,

@@ -690,3 +690,68 @@ fn every_builtin_preset_renders_finite_audible_and_unclipped_at_its_own_level() 
     }
     println!("preset levels (0.5 s, calibrated): {levels:?}");
 }
+
+#[test]
+fn a_preset_with_automation_morphs_over_the_render() {
+    // The morph scene rolls for 2 s and rubs for its last second: the impact list must show
+    // rolling's density (Table I: 150–330 impacts/s) at the start and rubbing's one impact
+    // per sample at the end. `--set` of an automated parameter replaces its lane.
+    let dir = scratch("morph");
+    ok(
+        &dir,
+        &[
+            "render",
+            "--preset",
+            "roll-scrape-rub-morph",
+            "--seconds",
+            "10",
+            "--sample-rate",
+            "16000",
+            "--impacts",
+            "hits.csv",
+            "-o",
+            "m.wav",
+        ],
+    );
+    let csv = fs::read_to_string(dir.join("hits.csv")).unwrap();
+    let times: Vec<f64> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').next().unwrap().parse().unwrap())
+        .collect();
+    let count = |a: f64, b: f64| times.iter().filter(|&&t| t >= a && t < b).count() as f64;
+    let roll = count(0.5, 1.5);
+    let rub = count(9.2, 9.9) / 0.7;
+    assert!((100.0..400.0).contains(&roll), "rolling density {roll}/s");
+    assert!(rub > 0.9 * 16_000.0, "rubbing density {rub}/s");
+    ok(
+        &dir,
+        &[
+            "render",
+            "--preset",
+            "roll-scrape-rub-morph",
+            "--seconds",
+            "10",
+            "--sample-rate",
+            "16000",
+            "--set",
+            "action_x=-0.5",
+            "--set",
+            "action_y=-0.866",
+            "--impacts",
+            "hits2.csv",
+            "-o",
+            "m2.wav",
+        ],
+    );
+    let csv = fs::read_to_string(dir.join("hits2.csv")).unwrap();
+    let late = csv
+        .lines()
+        .skip(1)
+        .filter(|l| l.split(',').next().unwrap().parse::<f64>().unwrap() >= 9.2)
+        .count();
+    assert!(
+        late < 400,
+        "--set did not override the lane: {late} impacts in the last 0.8 s"
+    );
+}

@@ -38,6 +38,9 @@
 //!   9 dB under rolling in RMS (`tests/action.rs` measures both). σ_rub scales with
 //!   √(48 kHz/f_s) so rubbing (one impact per sample) keeps the same level in the audible
 //!   band at every sample rate.
+//! * **Loudness of blends.** Mixing densities makes a blend much sparser than its anchors'
+//!   loudness suggests; blends are scaled to the loudness interpolated in dB between the
+//!   anchors (an analytic estimate of the force power, capped at ±20 dB), 1 at the anchors.
 //! * **Signs.** Rubbing and scratching forces are zero-mean (negative amplitudes exist);
 //!   rolling amplitudes are floored at [`crate::series::A_MIN`] (the rule of
 //!   [`crate::series`]). In a blend the floor fades in with the roll weight,
@@ -343,6 +346,8 @@ pub struct ActionParams {
     pub pulse_gain: f64,
     /// Smallest emitted interval, seconds: min(one sample, `INTERVAL_MIN_S`).
     pub min_interval_s: f64,
+    /// Loudness compensation of a blend (1 at the anchors; see [`ActionParams::blend`]).
+    pub level_gain: f64,
 }
 
 impl ActionParams {
@@ -399,7 +404,46 @@ impl ActionParams {
             },
             pulse_gain: w[2] + friction * friction_gain,
             min_interval_s: (1.0 / sample_rate_hz).min(INTERVAL_MIN_S),
+            level_gain: 1.0,
         }
+        .with_level(p, sample_rate_hz)
+    }
+
+    /// Expected force power of this set, up to a constant: pulse energy × rate,
+    /// g²·(ζ_eff·E|A|)²/max(ζ_eff, 2/f_s) / E[Δ] — a pulse narrower than two samples is
+    /// widened keeping its area (see [`crate::pulse`]).
+    fn power(&self, sample_rate_hz: f64) -> f64 {
+        let (a, b) = self.filter_a;
+        let gain2 = (1.0 + b * b - 2.0 * a * b) / (1.0 - a * a);
+        let mean = self.expected_mean_amplitude();
+        let a2 = mean * mean + self.amplitude.variance() * gain2;
+        let z = self.zeta_s.max(1e-9);
+        let pulse = self.pulse_gain * self.pulse_gain * z * z / z.max(2.0 / sample_rate_hz);
+        let rate = 1.0 / self.expected_mean_interval_s().max(1.0 / sample_rate_hz);
+        pulse * a2 * rate
+    }
+
+    /// Loudness compensation of a blend: the mixture of a dense and a sparse density is
+    /// much sparser than either's loudness suggests (10 % of 20 ms intervals already make
+    /// rubbing's one-impact-per-sample ten times sparser), so a blend is scaled to the
+    /// loudness interpolated in dB between its anchors, Σwᵢ·Lᵢ, capped at ±20 dB.
+    /// Exactly 1 at an anchor. Not part of the reported series amplitudes.
+    fn with_level(mut self, p: &[Prototype; 3], sample_rate_hz: f64) -> Self {
+        if self.weights.iter().any(|&w| w >= 1.0) {
+            return self;
+        }
+        let mut target_ln = 0.0;
+        for i in 0..3 {
+            if self.weights[i] > 0.0 {
+                let mut one = [0.0; 3];
+                one[i] = 1.0;
+                let pure = Self::blend(one, p, sample_rate_hz);
+                target_ln += self.weights[i] * pure.power(sample_rate_hz).max(1e-30).ln();
+            }
+        }
+        let here = self.power(sample_rate_hz).max(1e-30);
+        self.level_gain = (0.5 * (target_ln - here.ln())).exp().clamp(0.1, 10.0);
+        self
     }
 
     /// Weight of the roll anchor.

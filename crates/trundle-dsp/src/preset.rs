@@ -18,10 +18,15 @@
 //!   variant names for enumerations. Missing keys take their defaults; unknown keys,
 //!   non-finite, out-of-range or non-whole values are errors naming the key — a preset is
 //!   never loaded half-right.
+//! * `automation` (optional) holds keyframe lanes for offline renders — a scene that moves:
+//!   `{"action_x": [[0, -0.5], [4, 1.0]], ...}`, each point `[time_s, value]`, times
+//!   non-decreasing, values validated like `params`, linear in between and held before the
+//!   first and after the last point. The CLI renders them; in a DAW the host's automation
+//!   plays this role and the plugin loads the lanes' first values.
 //! * Every `presets/*.json` of the repository is embedded at build time
 //!   ([`BUILTIN_PRESETS`]), so a plugin bundle is self-contained.
 
-use crate::params::{spec_by_key, ParamError, ParamKind, Params, PARAMS};
+use crate::params::{spec_by_key, ParamError, ParamId, ParamKind, Params, PARAMS};
 use core::fmt;
 use serde_json::{Map, Value};
 
@@ -49,6 +54,38 @@ pub struct Preset {
     pub description: String,
     /// The full parameter set (defaults for keys the file does not mention).
     pub params: Params,
+    /// Keyframe lanes (empty for a static scene).
+    pub automation: Vec<Lane>,
+}
+
+/// One automated parameter: keyframes `(time_s, value)`, linear in between.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Lane {
+    /// The parameter.
+    pub id: ParamId,
+    /// Keyframes, times non-decreasing.
+    pub points: Vec<(f64, f64)>,
+}
+
+impl Lane {
+    /// The lane's value at `time_s` (held outside the keyframes; enumerations and integers
+    /// step at the next keyframe instead of gliding).
+    pub fn value_at(&self, time_s: f64) -> f64 {
+        let p = &self.points;
+        if time_s <= p[0].0 {
+            return p[0].1;
+        }
+        for w in p.windows(2) {
+            let ((t0, v0), (t1, v1)) = (w[0], w[1]);
+            if time_s < t1 {
+                if !matches!(self.id.spec().kind, ParamKind::Float { .. }) || t1 <= t0 {
+                    return v0;
+                }
+                return v0 + (v1 - v0) * (time_s - t0) / (t1 - t0);
+            }
+        }
+        p[p.len() - 1].1
+    }
 }
 
 /// Why a preset was refused.
@@ -67,6 +104,8 @@ pub enum PresetError {
     Param(ParamError),
     /// No built-in preset of that name.
     UnknownBuiltin(String),
+    /// A malformed automation lane.
+    Automation(String),
 }
 
 impl fmt::Display for PresetError {
@@ -79,6 +118,7 @@ impl fmt::Display for PresetError {
                 "preset format version {found} is newer than this Trundle understands (version {PRESET_VERSION}); update Trundle"
             ),
             PresetError::Param(e) => write!(f, "{e}"),
+            PresetError::Automation(e) => write!(f, "automation: {e}"),
             PresetError::UnknownBuiltin(n) => {
                 write!(f, "no built-in preset '{n}' (available: ")?;
                 for (i, (stem, _)) in BUILTIN_PRESETS.iter().enumerate() {
@@ -112,7 +152,7 @@ impl Preset {
         for key in obj.keys() {
             if !matches!(
                 key.as_str(),
-                "trundle_preset" | "name" | "description" | "params"
+                "trundle_preset" | "name" | "description" | "params" | "automation"
             ) {
                 return Err(PresetError::Syntax(format!("unknown field '{key}'")));
             }
@@ -163,11 +203,29 @@ impl Preset {
             };
             params.set(spec.id, value)?;
         }
+        let automation = match obj.get("automation") {
+            None => Vec::new(),
+            Some(v) => parse_automation(v)?,
+        };
+        // A static load (the plugin) takes each lane's first value.
+        for lane in &automation {
+            params.set(lane.id, lane.points[0].1)?;
+        }
         Ok(Self {
             name,
             description,
             params,
+            automation,
         })
+    }
+
+    /// The parameters at `time_s` of the scene: `params` with every lane applied.
+    pub fn params_at(&self, time_s: f64) -> Params {
+        let mut p = self.params;
+        for lane in &self.automation {
+            p.set_clamped(lane.id, lane.value_at(time_s));
+        }
+        p
     }
 
     /// Serialize to the current format (every parameter written; enums by name).
@@ -189,6 +247,26 @@ impl Preset {
             Value::String(self.description.clone()),
         );
         top.insert("params".into(), Value::Object(params));
+        if !self.automation.is_empty() {
+            let mut lanes = Map::new();
+            for lane in &self.automation {
+                let spec = lane.id.spec();
+                let points = lane
+                    .points
+                    .iter()
+                    .map(|&(t, v)| {
+                        let value = match spec.kind {
+                            ParamKind::Enum(names) => Value::String(names[v as usize].into()),
+                            ParamKind::Int => Value::from(v as i64),
+                            ParamKind::Float { .. } => Value::from(v),
+                        };
+                        Value::Array(vec![Value::from(t), value])
+                    })
+                    .collect();
+                lanes.insert(spec.key.to_string(), Value::Array(points));
+            }
+            top.insert("automation".into(), Value::Object(lanes));
+        }
         serde_json::to_string_pretty(&Value::Object(top)).expect("a JSON value always serializes")
     }
 
@@ -200,6 +278,69 @@ impl Preset {
             .ok_or_else(|| PresetError::UnknownBuiltin(name.to_string()))?;
         Self::from_json(text)
     }
+}
+
+/// Most keyframes one lane may hold.
+pub const MAX_KEYFRAMES: usize = 4096;
+
+fn parse_automation(v: &Value) -> Result<Vec<Lane>, PresetError> {
+    let bad = |m: String| PresetError::Automation(m);
+    let obj = v
+        .as_object()
+        .ok_or_else(|| bad("must be an object of lanes".into()))?;
+    let mut lanes = Vec::new();
+    for (key, pts) in obj {
+        let spec = spec_by_key(key).ok_or_else(|| ParamError::UnknownId(key.clone()))?;
+        if matches!(spec.id, ParamId::Seed | ParamId::Modes | ParamId::Shape) {
+            return Err(bad(format!(
+                "'{key}' cannot be automated in a preset (it restarts or rebuilds the scene)"
+            )));
+        }
+        let arr = pts
+            .as_array()
+            .filter(|a| !a.is_empty() && a.len() <= MAX_KEYFRAMES)
+            .ok_or_else(|| {
+                bad(format!(
+                    "'{key}' must be a list of 1 to {MAX_KEYFRAMES} [time_s, value] points"
+                ))
+            })?;
+        let mut points = Vec::with_capacity(arr.len());
+        for p in arr {
+            let pair = p
+                .as_array()
+                .filter(|a| a.len() == 2)
+                .ok_or_else(|| bad(format!("'{key}': each point is [time_s, value]")))?;
+            let t = pair[0]
+                .as_f64()
+                .filter(|t| t.is_finite() && *t >= 0.0)
+                .ok_or_else(|| {
+                    bad(format!(
+                        "'{key}': time {} is not a time in seconds ≥ 0",
+                        pair[0]
+                    ))
+                })?;
+            if points.last().is_some_and(|&(t0, _): &(f64, f64)| t < t0) {
+                return Err(bad(format!("'{key}': times must not go backwards ({t} s)")));
+            }
+            let value = match &pair[1] {
+                Value::Number(n) => spec.validate(n.as_f64().unwrap_or(f64::NAN))?,
+                Value::String(s) if matches!(spec.kind, ParamKind::Enum(_)) => spec.parse(s)?,
+                other => {
+                    return Err(ParamError::Unparsable {
+                        key: spec.key,
+                        text: other.to_string(),
+                    }
+                    .into())
+                }
+            };
+            points.push((t, value));
+        }
+        lanes.push(Lane {
+            id: spec.id,
+            points,
+        });
+    }
+    Ok(lanes)
 }
 
 /// Number of parameters a preset can hold (for the docs and tests).
@@ -255,5 +396,51 @@ mod tests {
             p.params.get(ParamId::Size),
             Params::default().get(ParamId::Size)
         );
+        let auto = |a: &str| {
+            Preset::from_json(&format!(
+                r#"{{"trundle_preset": 1, "name": "x", "automation": {a}}}"#
+            ))
+        };
+        assert!(auto("[]")
+            .unwrap_err()
+            .to_string()
+            .contains("object of lanes"));
+        assert!(auto(r#"{"size": []}"#)
+            .unwrap_err()
+            .to_string()
+            .contains("list of 1"));
+        assert!(auto(r#"{"size": [[1, 0.5], [0, 0.6]]}"#)
+            .unwrap_err()
+            .to_string()
+            .contains("backwards"));
+        assert!(auto(r#"{"size": [[0, 5]]}"#)
+            .unwrap_err()
+            .to_string()
+            .contains("out of range"));
+        assert!(auto(r#"{"seed": [[0, 5]]}"#)
+            .unwrap_err()
+            .to_string()
+            .contains("cannot be automated"));
+        assert!(auto(r#"{"size": [[-1, 0.5]]}"#).is_err());
+        assert!(auto(r#"{"size": [[0, 0.5, 1]]}"#).is_err());
+    }
+
+    #[test]
+    fn automation_interpolates_and_round_trips() {
+        let p = Preset::from_json(
+            r#"{"trundle_preset": 1, "name": "m", "params": {"size": 0.9},
+                "automation": {"size": [[1, 0.2], [3, 0.6]], "trajectory": [[0, "manual"], [2, "circle"]]}}"#,
+        )
+        .unwrap();
+        // Static load: the first keyframes.
+        assert_eq!(p.params.get(ParamId::Size), 0.2);
+        let at = |t: f64| p.params_at(t);
+        assert_eq!(at(0.0).get(ParamId::Size), 0.2);
+        assert!((at(2.0).get(ParamId::Size) - 0.4).abs() < 1e-12);
+        assert_eq!(at(9.0).get(ParamId::Size), 0.6);
+        // Enumerations step.
+        assert_eq!(at(1.9).get(ParamId::Trajectory), 0.0);
+        assert_eq!(at(2.0).get(ParamId::Trajectory), 2.0);
+        assert_eq!(Preset::from_json(&p.to_json()).unwrap(), p);
     }
 }

@@ -358,7 +358,7 @@ impl Source {
                     &self.shape,
                     self.next_center,
                     t0 * fs,
-                    (step.amplitude * ap.pulse_gain) as f32,
+                    (step.amplitude * ap.pulse_gain * ap.level_gain) as f32,
                 );
                 if self.log_enabled {
                     self.record(ImpactRecord {

@@ -1,7 +1,7 @@
 //! One ball on one object: the whole chain, driven by a [`Params`] set.
 //!
 //! ```text
-//! Params ─► Source (series → pulses → AM → low-pass) ─► force ─► Space (position comb) ─► Object (modal bank) ─► × gain ─► out
+//! Params ─► Source (series → pulses → AM → low-pass) ─► force ─► Space (position comb) ─► DC block ─► Object (modal bank) ─► × gain ─► out
 //!                                                       └──────────── output = force ─────────────────────────┘
 //! ```
 //!
@@ -11,6 +11,7 @@
 //! the same seed and parameters give the same samples whether rendered in blocks of 1 or
 //! 8192.
 
+use crate::dcblock::DcBlock;
 use crate::modulation::AsymmetryLaw;
 use crate::object::{Object, ObjectControls};
 use crate::params::{ParamId, Params};
@@ -34,6 +35,7 @@ pub struct Voice {
     params: Params,
     source: Source,
     space: Space,
+    dc: DcBlock,
     object: Object,
     gain: Smoother,
     /// 0 = object output, 1 = force output (crossfaded over the smoothing time).
@@ -45,6 +47,7 @@ pub struct Voice {
     chunk_pos: usize,
     force: [f32; CHUNK],
     sound: [f32; CHUNK],
+    coupled: [f32; CHUNK],
 }
 
 fn source_controls(p: &Params) -> SourceControls {
@@ -92,6 +95,7 @@ impl Voice {
             params: *params,
             source: Source::new(fs, source_controls(params), seed),
             space: Space::new(fs, space_controls(params)),
+            dc: DcBlock::new(fs),
             object: Object::new(fs, object_controls(params)),
             gain: Smoother::new(params.gain_linear()),
             force_mix: Smoother::new(if params.force_only() { 1.0 } else { 0.0 }),
@@ -100,6 +104,7 @@ impl Voice {
             chunk_pos: 0,
             force: [0.0; CHUNK],
             sound: [0.0; CHUNK],
+            coupled: [0.0; CHUNK],
         };
         v.reset();
         v
@@ -115,6 +120,7 @@ impl Voice {
         self.fs = crate::sanitize_sample_rate(sample_rate_hz);
         self.source.set_sample_rate(self.fs);
         self.space.set_sample_rate(self.fs);
+        self.dc.set_sample_rate(self.fs);
         self.object.set_sample_rate(self.fs);
         self.reset();
     }
@@ -125,6 +131,7 @@ impl Voice {
         self.source.set_seed(self.seed);
         self.source.reset();
         self.space.reset();
+        self.dc.reset();
         self.object.reset();
         self.gain.snap_to_target();
         self.force_mix.snap_to_target();
@@ -218,7 +225,9 @@ impl Voice {
         let fs = self.fs;
         self.source.process_chunk(&mut self.force);
         self.space.process(&mut self.force);
-        self.object.process_chunk(&self.force, &mut self.sound);
+        // The object hears the force without its static load (see `dcblock`).
+        self.dc.process(&self.force, &mut self.coupled);
+        self.object.process_chunk(&self.coupled, &mut self.sound);
         let (g0, g1) = self.gain.advance(CHUNK, fs);
         let (x0, x1) = self.force_mix.advance(CHUNK, fs);
         let inv = 1.0 / CHUNK as f32;
