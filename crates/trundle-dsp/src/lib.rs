@@ -28,7 +28,8 @@
 //! | [`material`] | the material disk, damping α(ω) = exp(α_G + α_R·ω) | CMJ "Object part", Aramaki 2011 |
 //! | [`shape`] | mode frequency series per object shape | CMJ "Intuitive control" |
 //! | [`modal`] | Mathews–Smith complex one-pole ("phasor") filter bank | Mathews & Smith 2003 |
-//! | [`voice`] | one ball on one object: source + object, smoothing, lifecycle | — |
+//! | [`voice`] | one ball on one object: source (or physics) + object, smoothing, lifecycle | — |
+//! | [`engine`] | engine choice; the controls mapped onto the physics (S → R, m_e, κ; V → v; ρ → β, relief) | TASLP §II-A, §III-B, §V-C; Rath 2003 §5 |
 //! | [`params`] | the single parameter table (IDs, ranges, units, defaults) | — |
 //! | [`analysis`] | impact extraction, ARMA(1,1) Gauss–Newton fit, residual statistics | TASLP §IV-B, §IV-E |
 //! | [`surface`], [`physics`] | fractal surface, Rath's rolling filter, Hunt–Crossley ball (RK4) | TASLP §II-A, §III; Rath 2003 |
@@ -67,6 +68,7 @@ pub mod action;
 pub mod analysis;
 pub mod dcblock;
 pub mod disk;
+pub mod engine;
 pub mod lowpass;
 pub mod material;
 pub mod modal;

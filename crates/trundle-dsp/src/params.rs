@@ -76,6 +76,8 @@ pub enum ParamId {
     Comb,
     /// Ball trajectory.
     Trajectory,
+    /// Which engine makes the force: signal model or physics (see [`crate::engine`]).
+    Engine,
 }
 
 /// Names of the [`ParamId::Shape`] variants, in index order (see [`crate::shape::Shape`]).
@@ -86,6 +88,8 @@ pub const OUTPUT_NAMES: &[&str] = &["object", "force"];
 pub const ASYMMETRY_LAW_NAMES: &[&str] = &["constant", "speed2"];
 /// Names of the [`ParamId::Trajectory`] variants, in index order.
 pub const TRAJECTORY_NAMES: &[&str] = &["manual", "line", "circle"];
+/// Names of the [`ParamId::Engine`] variants, in index order (see [`crate::engine::Engine`]).
+pub const ENGINE_NAMES: &[&str] = &["signal", "physics"];
 
 /// The description of one parameter.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -114,7 +118,7 @@ const FLOAT: ParamKind = ParamKind::Float { log: false };
 const LOG: ParamKind = ParamKind::Float { log: true };
 
 /// Number of parameters.
-pub const PARAM_COUNT: usize = 23;
+pub const PARAM_COUNT: usize = 24;
 
 /// The parameter table, indexed by [`ParamId`].
 pub const PARAMS: [ParamSpec; PARAM_COUNT] = [
@@ -370,6 +374,16 @@ pub const PARAMS: [ParamSpec; PARAM_COUNT] = [
         default: 0.0,
         kind: ParamKind::Enum(TRAJECTORY_NAMES),
         doc: "manual = the ball stays at position_x/y; line = back and forth across the object through that point; circle = around the centre through that point; the ball moves at velocity V m/s (CMMR §3.3)",
+    },    ParamSpec {
+        id: ParamId::Engine,
+        key: "engine",
+        name: "Engine",
+        unit: "",
+        min: 0.0,
+        max: 1.0,
+        default: 0.0,
+        kind: ParamKind::Enum(ENGINE_NAMES),
+        doc: "signal = the fast statistical model (TASLP Fig. 5); physics = a Hunt-Crossley ball on a fractal surface integrated by RK4 (TASLP §II-A, §III; Rath 2003), driven by the same size/velocity/roughness/asymmetry controls; switching crossfades over 20 ms",
     },
 ];
 

@@ -1,9 +1,18 @@
 //! One ball on one object: the whole chain, driven by a [`Params`] set.
 //!
 //! ```text
-//! Params ─► Source (series → pulses → AM → low-pass) ─► force ─► Space (position comb) ─► DC block ─► Object (modal bank) ─► × gain ─► out
-//!                                                       └──────────── output = force ─────────────────────────┘
+//! Params ─┬► Source (series → pulses → AM → low-pass) ──┐ engine crossfade
+//!         └► PhysicsEngine (Hunt–Crossley, RK4) × norm ──┴► force ─► Space (position comb) ─► DC block ─► Object (modal bank) ─► × gain ─► out
+//!                                                          └──────────── output = force ─────────────────────────┘
 //! ```
+//!
+//! The force comes from the signal model ([`Source`]) or from the physics engine
+//! ([`PhysicsEngine`]), chosen by the `engine` parameter; the mapping of the controls onto
+//! the physics and the level normalization are in [`crate::engine`]. A change of engine
+//! crossfades the two forces linearly over [`ENGINE_CROSSFADE_S`] (both run meanwhile);
+//! otherwise only the selected engine runs. With `engine = signal` the output is exactly
+//! (bit for bit) what it was before the physics engine existed. The impact log
+//! ([`Voice::drain_impacts`]) reports the signal engine's impacts only.
 //!
 //! Lifecycle ([`crate`] docs): [`Voice::new`] allocates; [`Voice::set_sample_rate`] may
 //! allocate; [`Voice::reset`] and [`Voice::process`] never do. Blocks of any length are
@@ -12,9 +21,13 @@
 //! 8192.
 
 use crate::dcblock::DcBlock;
+use crate::engine::{
+    auto_oversample, Engine, PhysicsControls, ENGINE_CROSSFADE_S, PHYSICS_FORCE_SCALE,
+};
 use crate::modulation::AsymmetryLaw;
 use crate::object::{Object, ObjectControls};
 use crate::params::{ParamId, Params};
+use crate::physics::{PhysicsEngine, MAX_OVERSAMPLE};
 use crate::shape::Shape;
 use crate::smooth::Smoother;
 use crate::source::{ImpactRecord, Source, SourceControls};
@@ -48,6 +61,21 @@ pub struct Voice {
     force: [f32; CHUNK],
     sound: [f32; CHUNK],
     coupled: [f32; CHUNK],
+    /// The physics engine (allocated in `new`; runs only while selected or fading).
+    physics: PhysicsEngine,
+    /// Smoothed size, velocity, roughness, asymmetry for the physics engine.
+    phys_ctrl: [Smoother; 4],
+    /// The physics controls' targets (law and seed are not smoothed).
+    phys_target: PhysicsControls,
+    /// RK4 substeps per sample; 0 = [`auto_oversample`].
+    phys_oversample: usize,
+    /// The physics engine ran in the previous chunk (else its controls snap on restart).
+    phys_running: bool,
+    /// Engine crossfade position: 0 = signal, 1 = physics.
+    engine_mix: f32,
+    /// Where the crossfade goes (0 or 1).
+    engine_target: f32,
+    phys_force: [f32; CHUNK],
 }
 
 fn source_controls(p: &Params) -> SourceControls {
@@ -85,11 +113,23 @@ fn object_controls(p: &Params) -> ObjectControls {
     }
 }
 
+fn engine_target(p: &Params) -> f32 {
+    match Engine::from_index(p.get(ParamId::Engine) as usize) {
+        Engine::Signal => 0.0,
+        Engine::Physics => 1.0,
+    }
+}
+
 impl Voice {
     /// A voice at `sample_rate_hz` (sanitized to 8–384 kHz) with parameters `params`.
+    ///
+    /// # Allocation
+    /// Allocates the signal chain and the physics engine (rolling-filter rings, modal
+    /// arrays), whichever engine is selected, so that switching never allocates.
     pub fn new(sample_rate_hz: f64, params: &Params) -> Self {
         let fs = crate::sanitize_sample_rate(sample_rate_hz);
         let seed = params.seed();
+        let pc = PhysicsControls::from_params(params);
         let mut v = Self {
             fs,
             params: *params,
@@ -105,9 +145,63 @@ impl Voice {
             force: [0.0; CHUNK],
             sound: [0.0; CHUNK],
             coupled: [0.0; CHUNK],
+            physics: PhysicsEngine::new(&pc.settings(fs, auto_oversample(fs))),
+            phys_ctrl: [
+                Smoother::new(pc.size),
+                Smoother::new(pc.velocity),
+                Smoother::new(pc.roughness),
+                Smoother::new(pc.asymmetry),
+            ],
+            phys_target: pc,
+            phys_oversample: 0,
+            phys_running: false,
+            engine_mix: engine_target(params),
+            engine_target: engine_target(params),
+            phys_force: [0.0; CHUNK],
         };
         v.reset();
         v
+    }
+
+    fn oversample(&self) -> usize {
+        if self.phys_oversample == 0 {
+            auto_oversample(self.fs)
+        } else {
+            self.phys_oversample
+        }
+    }
+
+    /// Choose the physics engine's RK4 substeps per output sample, 1..=8 (the accuracy knob
+    /// of [`crate::physics`]); 0 = automatic (internal rate ≥ 96 kHz, see
+    /// [`auto_oversample`]). Real-time safe; applies from the next chunk.
+    pub fn set_physics_oversample(&mut self, oversample: usize) {
+        self.phys_oversample = oversample.min(MAX_OVERSAMPLE);
+        self.apply_physics_controls();
+    }
+
+    /// The physics engine (health report, settings in force), for inspection.
+    pub fn physics(&self) -> &PhysicsEngine {
+        &self.physics
+    }
+
+    /// Push the smoothed physics controls into the engine (real-time safe).
+    fn apply_physics_controls(&mut self) {
+        let c = PhysicsControls {
+            size: self.phys_ctrl[0].value(),
+            velocity: self.phys_ctrl[1].value(),
+            roughness: self.phys_ctrl[2].value(),
+            asymmetry: self.phys_ctrl[3].value(),
+            ..self.phys_target
+        };
+        let s = c.settings(self.fs, self.oversample());
+        self.physics.set_settings(&s);
+    }
+
+    fn snap_physics_controls(&mut self) {
+        for s in &mut self.phys_ctrl {
+            s.snap_to_target();
+        }
+        self.apply_physics_controls();
     }
 
     /// The sample rate in Hz (after sanitizing).
@@ -122,6 +216,7 @@ impl Voice {
         self.space.set_sample_rate(self.fs);
         self.dc.set_sample_rate(self.fs);
         self.object.set_sample_rate(self.fs);
+        self.apply_physics_controls();
         self.reset();
     }
 
@@ -133,6 +228,10 @@ impl Voice {
         self.space.reset();
         self.dc.reset();
         self.object.reset();
+        self.snap_physics_controls();
+        self.physics.reset();
+        self.phys_running = false;
+        self.engine_mix = self.engine_target;
         self.gain.snap_to_target();
         self.force_mix.snap_to_target();
         self.started = false;
@@ -155,10 +254,23 @@ impl Voice {
         self.gain.set_target(params.gain_linear());
         self.force_mix
             .set_target(if params.force_only() { 1.0 } else { 0.0 });
+        let pc = PhysicsControls::from_params(params);
+        for (s, v) in
+            self.phys_ctrl
+                .iter_mut()
+                .zip([pc.size, pc.velocity, pc.roughness, pc.asymmetry])
+        {
+            s.set_target(v);
+        }
+        self.phys_target = pc;
+        self.engine_target = engine_target(params);
         let seed = params.seed();
         if seed != self.seed {
             self.seed = seed;
             self.source.set_seed(seed);
+            // A new surface: the seed of the profile takes effect at the engine's reset.
+            self.apply_physics_controls();
+            self.physics.reset();
         }
     }
 
@@ -206,6 +318,7 @@ impl Voice {
             self.object.snap_controls();
             self.gain.snap_to_target();
             self.force_mix.snap_to_target();
+            self.engine_mix = self.engine_target;
             self.started = true;
         }
         let mut done = 0;
@@ -221,9 +334,53 @@ impl Voice {
         }
     }
 
+    /// One chunk of the physics force, normalized (see [`crate::engine`]) into `phys_force`.
+    fn physics_chunk(&mut self) {
+        let fs = self.fs;
+        if !self.phys_running {
+            self.snap_physics_controls();
+            self.phys_running = true;
+        } else {
+            let mut moving = false;
+            for s in &mut self.phys_ctrl {
+                moving |= s.is_moving();
+                s.advance(CHUNK, fs);
+            }
+            if moving {
+                self.apply_physics_controls();
+            }
+        }
+        self.physics.process(&mut self.phys_force);
+        let st = self.physics.settings();
+        let norm = (PHYSICS_FORCE_SCALE / (st.mass_kg * crate::physics::GRAVITY_M_S2)) as f32;
+        for x in &mut self.phys_force {
+            *x *= norm;
+        }
+    }
+
     fn render_chunk(&mut self) {
         let fs = self.fs;
-        self.source.process_chunk(&mut self.force);
+        let (m0, target) = (self.engine_mix, self.engine_target);
+        if m0 == 0.0 && target == 0.0 {
+            // Signal engine only: exactly the original chain.
+            self.source.process_chunk(&mut self.force);
+            self.phys_running = false;
+        } else if m0 == 1.0 && target == 1.0 {
+            self.physics_chunk();
+            self.force = self.phys_force;
+        } else {
+            // Crossfade: both engines, linear ramp of ENGINE_CROSSFADE_S.
+            self.source.process_chunk(&mut self.force);
+            self.physics_chunk();
+            let step = (1.0 / (ENGINE_CROSSFADE_S * fs)) as f32;
+            let step = if target > m0 { step } else { -step };
+            let mut m = m0;
+            for (f, p) in self.force.iter_mut().zip(&self.phys_force) {
+                m = (m + step).clamp(0.0, 1.0);
+                *f = (1.0 - m) * *f + m * *p;
+            }
+            self.engine_mix = m;
+        }
         self.space.process(&mut self.force);
         // The object hears the force without its static load (see `dcblock`).
         self.dc.process(&self.force, &mut self.coupled);
