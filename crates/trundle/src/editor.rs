@@ -1,22 +1,27 @@
-//! The editor (nice-plug-egui): two navigation disks, a live spectrum, rotary knobs and
-//! selectors for the ball, the object and the output, and a preset menu.
+//! The editor (nice-plug-egui): the action and material disks, the ball's position on the
+//! object, a live spectrum, rotary knobs and selectors for the ball, the object and the
+//! output, and a preset menu.
 //!
 //! ```text
-//! ┌ TRUNDLE  rolling · rubbing · scratching          ‹ [preset ▾] ›   (BYPASS) ┐
-//! ├ ACTION disk ─┬ MATERIAL disk ┬ OUTPUT SPECTRUM ────────────────────────────┤
-//! │ rub·scratch· │ wood·metal·   │ log frequency, dB grid                       │
-//! │ roll (XY)    │ glass (XY)    │                                              │
-//! ├ BALL ─────────────────────────┬ OBJECT ───────────────┬ OUTPUT ────────────┤
-//! │ five knobs                    │ three knobs + shape   │ gain + output, run, │
-//! │                               │                       │ seed                │
-//! └ hints ──────────────────────────────────────────────── version · API · rate ┘
+//! ┌ TRUNDLE  rolling · rubbing · scratching          ◀ [preset ▾] ▶   (BYPASS) ┐
+//! ├ ACTION ──────┬ MATERIAL ────┬ POSITION ─────┬ OUTPUT SPECTRUM ────────────┤
+//! │ rub·scratch· │ wood·metal·  │ ball + ear on │ log frequency, dBFS grid    │
+//! │ roll disk    │ glass disk   │ the object,   │                             │
+//! │              │              │ trajectory,   │                             │
+//! │              │              │ amount        │                             │
+//! ├ BALL ───────────────────────┬ OBJECT ───────────────┬ OUTPUT ─────────────┤
+//! │ five knobs + AM law         │ three knobs + shape   │ gain + output, run, │
+//! │                             │                       │ seed                │
+//! └ hints ─────────────────────────────────────────────── version · API · rate ┘
 //! ```
 //!
 //! * Every rectangle is a fixed fraction of the window and every size (fonts, strokes,
 //!   radii) is multiplied by one scale factor, `min(width / 880, height / 600)`, so the
 //!   editor scales as the host resizes it and keeps its proportions.
 //! * Every change goes through nice-plug's `ParamSetter` with begin/set/end gestures (see
-//!   [`widgets`]), so host automation recording works.
+//!   `editor/widgets.rs`), so host automation recording works.
+//! * Table rows added after this layout was drawn are not lost: they appear with generic
+//!   controls on a second page ("MORE") until they get a designed place.
 //! * The spectrum is computed here, on the GUI thread, from the audio thread's lock-free
 //!   [`SpectrumTap`] — only while the window is open, with buffers allocated once (the
 //!   one per-frame allocation is the shape handed to egui, which takes ownership of it).
@@ -118,6 +123,7 @@ struct Layout {
     header: Rect,
     action: Rect,
     material: Rect,
+    position: Rect,
     spectrum: Rect,
     ball: Rect,
     object: Rect,
@@ -144,12 +150,16 @@ impl Layout {
         let header = Rect::from_min_size(Pos2::new(x0, y), Vec2::new(inner.width(), header_h));
         y += header_h + gap;
         // Top row: the two disks take equal square-ish panels, the spectrum the rest.
-        let disk_w = (top_h * 0.86).min(inner.width() * 0.28);
+        let disk_w = (top_h * 0.86).min(inner.width() * 0.215);
         let action = Rect::from_min_size(Pos2::new(x0, y), Vec2::new(disk_w, top_h));
         let material =
             Rect::from_min_size(Pos2::new(action.right() + gap, y), Vec2::new(disk_w, top_h));
-        let spectrum = Rect::from_min_max(
+        let position = Rect::from_min_size(
             Pos2::new(material.right() + gap, y),
+            Vec2::new(disk_w, top_h),
+        );
+        let spectrum = Rect::from_min_max(
+            Pos2::new(position.right() + gap, y),
             Pos2::new(inner.right(), y + top_h),
         );
         y += top_h + gap;
@@ -159,7 +169,7 @@ impl Layout {
         let bottom_h = bottom_h - tabs_h;
         let bottom = Rect::from_min_size(Pos2::new(x0, y), Vec2::new(inner.width(), bottom_h));
         // Bottom row: widths proportional to what each section holds.
-        let units = [5.0, 4.4, 3.6];
+        let units = [6.5, 4.3, 3.5];
         let total: f32 = units.iter().sum();
         let free_w = inner.width() - 2.0 * gap;
         let w0 = free_w * units[0] / total;
@@ -178,6 +188,7 @@ impl Layout {
             header,
             action,
             material,
+            position,
             spectrum,
             ball,
             object,
@@ -208,7 +219,7 @@ pub struct TrundleEditor {
 }
 
 /// The table rows with a designed control, by key.
-const PLACED: [&str; 16] = [
+const PLACED: [&str; 23] = [
     "size",
     "velocity",
     "roughness",
@@ -225,6 +236,13 @@ const PLACED: [&str; 16] = [
     "output",
     "action_x",
     "action_y",
+    "asymmetry_law",
+    "position_x",
+    "position_y",
+    "listen_x",
+    "listen_y",
+    "comb",
+    "trajectory",
 ];
 
 /// Build the editor for the plugin.
@@ -332,6 +350,8 @@ impl NiceEguiApp for TrundleEditor {
         self.action_disk(ui, body, &setter, &t);
         let body = panel(ui, l.material, "MATERIAL", None, &t);
         self.material_disk(ui, body, &setter, &t);
+        let body = panel(ui, l.position, "POSITION", None, &t);
+        self.position_panel(ui, body, &setter, &t);
         let body = panel(ui, l.spectrum, "OUTPUT SPECTRUM", Some("dBFS"), &t);
         self.spectrum(ui, body, &t);
 
@@ -352,9 +372,10 @@ impl NiceEguiApp for TrundleEditor {
         }
 
         let body = panel(ui, l.ball, "BALL", None, &t);
-        self.knob_row(
+        let (knobs, side) = split_side(body, 5, 1.3);
+        let band = self.knob_row(
             ui,
-            body,
+            knobs,
             &setter,
             &t,
             &[
@@ -365,6 +386,13 @@ impl NiceEguiApp for TrundleEditor {
                 (ParamId::Sharpness, "Sharpness"),
             ],
         );
+        if let TableParam::Int(p) = self.params.get(ParamId::AsymmetryLaw) {
+            let column = side_column(side, band, 2, &t);
+            let (label, control) = labelled(column, &t);
+            widgets::caption(ui, label.center_top(), Align2::CENTER_TOP, "AM law", &t);
+            let doc = ParamId::AsymmetryLaw.spec().doc;
+            widgets::selector(ui, control, p, &setter, true, doc, &t);
+        }
 
         let body = panel(ui, l.object, "OBJECT", None, &t);
         let (knobs, side) = split_side(body, 3, 1.4);
@@ -380,18 +408,14 @@ impl NiceEguiApp for TrundleEditor {
             ],
         );
         if let TableParam::Int(p) = self.params.get(ParamId::Shape) {
-            // Aligned with the knobs, but never less than a comfortable row per variant.
-            let needed = 4.0 * 1.8 * t.font_small + 1.5 * t.font_small;
-            let bottom = band.bottom().max(band.top() + needed).min(side.bottom());
-            let top = (bottom - needed).min(band.top()).max(side.top());
-            let column = Rect::from_x_y_ranges(side.x_range(), top..=bottom);
+            let column = side_column(side, band, 4, &t);
             let (label, control) = labelled(column, &t);
             widgets::caption(ui, label.center_top(), Align2::CENTER_TOP, "Shape", &t);
             widgets::selector(ui, control, p, &setter, true, ParamId::Shape.spec().doc, &t);
         }
 
         let body = panel(ui, l.output, "OUTPUT", None, &t);
-        let (knobs, side) = split_side(body, 1, 2.6);
+        let (knobs, side) = split_side(body, 1, 2.5);
         self.knob_row(ui, knobs, &setter, &t, &[(ParamId::GainDb, "Gain")]);
         self.output_stack(ui, side, &setter, &t);
 
@@ -414,6 +438,15 @@ fn split_side(body: Rect, n: usize, side_units: f32) -> (Rect, Rect) {
         Rect::from_min_max(body.min, Pos2::new(split, body.bottom())),
         Rect::from_min_max(Pos2::new(split + 0.1 * unit, body.top()), body.max),
     )
+}
+
+/// A side column for a vertical selector of `n` variants under a caption: aligned with the
+/// knob `band`, but never less than a comfortable row per variant (within `side`).
+fn side_column(side: Rect, band: Rect, n: usize, t: &Theme) -> Rect {
+    let needed = n as f32 * 1.8 * t.font_small + 1.5 * t.font_small;
+    let bottom = band.bottom().max(band.top() + needed).min(side.bottom());
+    let top = (bottom - needed).min(band.top()).max(side.top());
+    Rect::from_x_y_ranges(side.x_range(), top..=bottom)
 }
 
 /// A caption line on top of `r` and the rest under it.
@@ -542,53 +575,48 @@ fn disk_mesh(c: Pos2, r: f32, colours: [Color32; 3], dim: f32) -> egui::Mesh {
     mesh
 }
 
-/// The round pad inside `body` with room for the anchor names around it and a caption
-/// under it, the group centred vertically: (centre, radius, the caption's top).
+/// The round pad inside `body` with room for the anchor names (see [`anchors`]) and a
+/// caption under it, the group centred: (centre, radius, the caption's top).
 fn pad_geometry(body: Rect, t: &Theme) -> (Pos2, f32, f32) {
     let caption_h = t.font_small * 2.4;
-    let label_room = t.font_small * 1.6;
-    let avail_h = body.height() - caption_h;
-    let r = (0.5 * body.width().min(avail_h) - label_room).max(10.0);
+    // Names stand about 1.7 lines beyond the top and bottom anchors, and the one at angle 0
+    // half a name beyond the rim.
+    let label_room = t.font_small * 1.8;
+    let right_room = t.font_small * 1.8;
+    let r = (0.5 * (body.width() - right_room))
+        .min(0.5 * (body.height() - caption_h) - label_room)
+        .max(10.0);
+    let group_w = 2.0 * r + right_room;
     let group_h = 2.0 * (r + label_room) + caption_h;
     let top = body.top() + 0.5 * (body.height() - group_h).max(0.0);
-    let c = Pos2::new(body.center().x, top + label_room + r);
-    (c, r, c.y + r + label_room + 0.4 * t.font_small)
+    let c = Pos2::new(
+        body.left() + 0.5 * (body.width() - group_w).max(0.0) + r,
+        top + label_room + r,
+    );
+    (c, r, c.y + r + label_room + 0.2 * t.font_small)
 }
 
-/// Anchor dots and names around a pad; `lit[i]` false draws anchor `i` hollow and dim.
-fn anchors(
-    ui: &egui::Ui,
-    c: Pos2,
-    r: f32,
-    names: [&str; 3],
-    colours: [Color32; 3],
-    lit: [bool; 3],
-    t: &Theme,
-) {
+/// Anchor dots and their names: above the anchors at 0 and 2π/3, below the one at 4π/3,
+/// so the names take no room beside the disk and never sit under a cursor resting on an
+/// anchor.
+fn anchors(ui: &egui::Ui, c: Pos2, r: f32, names: [&str; 3], colours: [Color32; 3], t: &Theme) {
     let p = ui.painter();
+    let dot = 4.0 * t.scale;
     for i in 0..3 {
         let (x, y) = trundle_dsp::disk::anchor(i);
-        let (x, y) = (x as f32, y as f32);
-        let at = disk_pos(c, r, x, y);
-        let dot = 4.0 * t.scale;
-        if lit[i] {
-            p.circle(at, dot, colours[i], Stroke::new(1.0, BG));
+        let at = disk_pos(c, r, x as f32, y as f32);
+        p.circle(at, dot, colours[i], Stroke::new(1.0, BG));
+        let (dy, align) = if i == 2 {
+            (dot + 5.0 * t.scale, Align2::CENTER_TOP)
         } else {
-            p.circle(at, dot, WELL, Stroke::new(1.0, TEXT_DIM));
-        }
-        // Names sit just outside the rim, pushed out along the anchor's direction.
-        let out = disk_pos(c, r + 7.0 * t.scale, x, y);
-        let align = match i {
-            0 => Align2::LEFT_CENTER,
-            1 => Align2::RIGHT_BOTTOM,
-            _ => Align2::RIGHT_TOP,
+            (-(dot + 5.0 * t.scale), Align2::CENTER_BOTTOM)
         };
         p.text(
-            out,
+            at + Vec2::new(0.0, dy),
             align,
             names[i],
             FontId::proportional(t.font_small),
-            if lit[i] { TEXT } else { TEXT_DIM },
+            TEXT,
         );
     }
 }
@@ -679,7 +707,7 @@ fn xy_disk(ui: &mut egui::Ui, body: Rect, setter: &ParamSetter, t: &Theme, d: Di
     let at = disk_pos(c, r, x, y);
     p.line_segment([c, at], Stroke::new(1.0, Color32::from_white_alpha(28)));
     p.circle_filled(c, 2.0 * t.scale, Color32::from_white_alpha(60));
-    anchors(ui, c, r, d.names, d.colours, [true; 3], t);
+    anchors(ui, c, r, d.names, d.colours, t);
     disk_cursor(ui, at, active, t);
 
     let w = trundle_dsp::disk::weights(f64::from(x), f64::from(y));
@@ -701,6 +729,210 @@ fn xy_disk(ui: &mut egui::Ui, body: Rect, setter: &ParamSetter, t: &Theme, d: Di
     );
     if !active {
         resp.on_hover_text(d.help);
+    }
+}
+
+/// The object seen from above (x right, y up, ±1 at the edges) with two draggable points:
+/// `points[0]` the ball (accent) and `points[1]` the listening point (ring). A press takes
+/// the nearer point and starts one gesture on its two parameters; a double-click resets
+/// it. The trajectory through the ball's point is drawn dashed; `enabled` false (amount 0)
+/// dims the points and says the position is off.
+fn xy_square(
+    ui: &mut egui::Ui,
+    rect: Rect,
+    setter: &ParamSetter,
+    t: &Theme,
+    points: [(&FloatParam, &FloatParam); 2],
+    trajectory: &IntParam,
+    enabled: bool,
+) {
+    let s = t.scale;
+    let inner = rect.shrink(9.0 * s);
+    let to_screen = |x: f32, y: f32| {
+        Pos2::new(
+            inner.center().x + 0.5 * x * inner.width(),
+            inner.center().y - 0.5 * y * inner.height(),
+        )
+    };
+    let from_screen = |p: Pos2| {
+        (
+            ((p.x - inner.center().x) / (0.5 * inner.width())).clamp(-1.0, 1.0),
+            (-(p.y - inner.center().y) / (0.5 * inner.height())).clamp(-1.0, 1.0),
+        )
+    };
+    let at = |i: usize| {
+        let (px, py) = points[i];
+        to_screen(px.modulated_plain_value(), py.modulated_plain_value())
+    };
+
+    let id = Id::unique("position_pad");
+    let resp = ui.interact(rect, id, Sense::click_and_drag());
+    let down = resp.is_pointer_button_down_on();
+    // 0 = no gesture, 1 = ball, 2 = listening point.
+    let mut held: usize = ui.data(|m| m.get_temp(id)).unwrap_or(0);
+    let nearest = |pos: Pos2| {
+        if pos.distance(at(0)) <= pos.distance(at(1)) {
+            1
+        } else {
+            2
+        }
+    };
+    if down && held == 0 {
+        if let Some(pos) = resp.interact_pointer_pos() {
+            held = nearest(pos);
+            let (px, py) = points[held - 1];
+            setter.begin_set_parameter(px);
+            setter.begin_set_parameter(py);
+        }
+    }
+    if held > 0 && down {
+        if let Some(pos) = resp.interact_pointer_pos() {
+            let (px, py) = points[held - 1];
+            let (x, y) = from_screen(pos);
+            setter.set_parameter(px, x);
+            setter.set_parameter(py, y);
+        }
+    }
+    if resp.double_clicked() {
+        let which = if held > 0 {
+            held
+        } else {
+            resp.interact_pointer_pos()
+                .or(resp.hover_pos())
+                .map_or(1, nearest)
+        };
+        let (px, py) = points[which - 1];
+        if held == 0 {
+            setter.begin_set_parameter(px);
+            setter.begin_set_parameter(py);
+        }
+        setter.set_parameter(px, px.default_plain_value());
+        setter.set_parameter(py, py.default_plain_value());
+        if held == 0 {
+            setter.end_set_parameter(px);
+            setter.end_set_parameter(py);
+        }
+    }
+    if held > 0 && !down {
+        let (px, py) = points[held - 1];
+        setter.end_set_parameter(px);
+        setter.end_set_parameter(py);
+        held = 0;
+    }
+    ui.data_mut(|m| m.insert_temp(id, held));
+    if resp.hovered() || held > 0 {
+        ui.ctx().set_cursor_icon(egui::CursorIcon::Crosshair);
+    }
+
+    let p = ui.painter_at(rect.expand(2.0));
+    p.rect(
+        rect,
+        t.radius_small(),
+        WELL,
+        Stroke::new(1.0, BORDER),
+        egui::StrokeKind::Inside,
+    );
+    p.rect_stroke(
+        inner,
+        2.0 * s,
+        Stroke::new(1.0, Color32::from_white_alpha(40)),
+        egui::StrokeKind::Middle,
+    );
+    let grid = Stroke::new(1.0, Color32::from_white_alpha(12));
+    for k in [-0.5f32, 0.0, 0.5] {
+        p.line_segment([to_screen(k, -1.0), to_screen(k, 1.0)], grid);
+        p.line_segment([to_screen(-1.0, k), to_screen(1.0, k)], grid);
+    }
+
+    // The trajectory through the ball's point (the engine's path: along x, or round the
+    // centre).
+    let ball = at(0);
+    let path = Stroke::new(
+        1.2 * s,
+        Color32::from_white_alpha(if enabled { 70 } else { 35 }),
+    );
+    match trajectory.unmodulated_plain_value() {
+        1 => {
+            let a = Pos2::new(inner.left(), ball.y);
+            let b = Pos2::new(inner.right(), ball.y);
+            p.extend(egui::Shape::dashed_line(&[a, b], path, 5.0 * s, 4.0 * s));
+        }
+        2 => {
+            let (x, y) = (
+                points[0].0.modulated_plain_value(),
+                points[0].1.modulated_plain_value(),
+            );
+            let radius = x.hypot(y);
+            let ring: Vec<Pos2> = (0..=72)
+                .map(|k| {
+                    let a = std::f32::consts::TAU * k as f32 / 72.0;
+                    to_screen(radius * a.cos(), radius * a.sin())
+                })
+                .collect();
+            p.extend(egui::Shape::dashed_line(&ring, path, 5.0 * s, 4.0 * s));
+        }
+        _ => {}
+    }
+
+    let (ball_col, ear_col, text_col) = if enabled {
+        (ACCENT, GLASS, TEXT)
+    } else {
+        (
+            lerp_colour(WELL, ACCENT, 0.45),
+            lerp_colour(WELL, GLASS, 0.45),
+            TEXT_DIM,
+        )
+    };
+    let ear = at(1);
+    let r = 6.0 * s;
+    p.line_segment(
+        [ball, ear],
+        Stroke::new(
+            1.0,
+            Color32::from_white_alpha(if enabled { 30 } else { 14 }),
+        ),
+    );
+    p.circle(ear, r, WELL, Stroke::new(2.0 * s, ear_col));
+    p.circle_filled(ear, 2.0 * s, ear_col);
+    p.circle_filled(
+        ball + Vec2::new(0.0, 1.0 * s),
+        r + 1.0,
+        Color32::from_black_alpha(110),
+    );
+    p.circle(
+        ball,
+        r,
+        if held == 1 { ACCENT_HI } else { ball_col },
+        Stroke::new(1.5 * s, text_col),
+    );
+    let font = FontId::proportional(t.font_small * 0.95);
+    let label = |pos: Pos2, text: &str| {
+        // Labels sit beside their point, on the side with room.
+        let right = pos.x < inner.center().x + 0.25 * inner.width();
+        let (x, align) = if right {
+            (pos.x + r + 4.0 * s, Align2::LEFT_CENTER)
+        } else {
+            (pos.x - r - 4.0 * s, Align2::RIGHT_CENTER)
+        };
+        p.text(Pos2::new(x, pos.y), align, text, font.clone(), text_col);
+    };
+    label(ball, "ball");
+    label(ear, "ear");
+    if !enabled {
+        p.text(
+            Pos2::new(inner.center().x, inner.top() + 4.0 * s),
+            Align2::CENTER_TOP,
+            "amount 0: position off",
+            font.clone(),
+            TEXT_DIM,
+        );
+    }
+    if held == 0 {
+        resp.on_hover_text(
+            "The object from above. Drag the ball (where it rolls) or the ear (where the \
+             object is heard from); double-click one for its default. They act through the \
+             edge reflections: raise Amount to hear them.",
+        );
     }
 }
 
@@ -1096,6 +1328,77 @@ impl TrundleEditor {
                 help: "Drag to blend the ball's action between rubbing, scratching and \
                        rolling; double-click for the default (roll).",
             },
+        );
+    }
+
+    /// The position panel: the object seen from above with the ball (`position_x/y`) and the
+    /// listening point (`listen_x/y`), the trajectory through the ball's point, and under it
+    /// the trajectory selector and the amount (`comb`) knob. With the amount at 0 the
+    /// position has no effect, and the pad says so.
+    fn position_panel(&self, ui: &mut egui::Ui, body: Rect, setter: &ParamSetter, t: &Theme) {
+        let s = t.scale;
+        let float = |id| match self.params.get(id) {
+            TableParam::Float(p) => Some(p),
+            TableParam::Int(_) => None,
+        };
+        let (Some(bx), Some(by), Some(lx), Some(ly), Some(amount)) = (
+            float(ParamId::PositionX),
+            float(ParamId::PositionY),
+            float(ParamId::ListenX),
+            float(ParamId::ListenY),
+            float(ParamId::Comb),
+        ) else {
+            return;
+        };
+        let TableParam::Int(trajectory) = self.params.get(ParamId::Trajectory) else {
+            return;
+        };
+
+        let strip_h = (2.0 * widgets::KNOB_RADIUS_PER_WIDTH * 0.36 * body.width()
+            + t.font_small * 1.5
+            + t.font_value * 1.6)
+            .min(0.4 * body.height());
+        let gap = 8.0 * s;
+        let side = body.width().min(body.height() - strip_h - gap);
+        let pad = Rect::from_min_size(
+            Pos2::new(body.center().x - 0.5 * side, body.top()),
+            Vec2::splat(side),
+        );
+        let strip = Rect::from_min_max(Pos2::new(body.left(), body.bottom() - strip_h), body.max);
+        let enabled = amount.modulated_plain_value() > 0.0;
+        xy_square(
+            ui,
+            pad,
+            setter,
+            t,
+            [(bx, by), (lx, ly)],
+            trajectory,
+            enabled,
+        );
+
+        // Trajectory selector on the left, the amount knob on the right.
+        let knob_w = 0.36 * body.width();
+        let sel = Rect::from_min_max(
+            strip.min,
+            Pos2::new(strip.right() - knob_w - 6.0 * s, strip.bottom()),
+        );
+        let (label, rest) = labelled(sel, t);
+        widgets::caption(ui, label.left_top(), Align2::LEFT_TOP, "Trajectory", t);
+        let control = Rect::from_center_size(
+            rest.center(),
+            Vec2::new(rest.width(), (22.0 * s).min(rest.height())),
+        );
+        let doc = ParamId::Trajectory.spec().doc;
+        widgets::selector(ui, control, trajectory, setter, false, doc, t);
+        let knob = Rect::from_min_max(Pos2::new(strip.right() - knob_w, strip.top()), strip.max);
+        widgets::knob(
+            ui,
+            knob,
+            amount,
+            setter,
+            "Amount",
+            ParamId::Comb.spec().doc,
+            t,
         );
     }
 

@@ -152,11 +152,13 @@ pub fn knob<P: Param>(
         .min(KNOB_RADIUS_PER_WIDTH * rect.width())
         .max(4.0);
     let c = Pos2::new(rect.center().x, rect.top() + label_h + 0.5 * free_h);
-    painter.text(
+    fitted_text(
+        &painter,
         Pos2::new(c.x, rect.top()),
         Align2::CENTER_TOP,
-        label,
-        FontId::proportional(t.font_small),
+        label.to_string(),
+        t.font_small,
+        rect.width(),
         t.text_dim,
     );
 
@@ -192,11 +194,13 @@ pub fn knob<P: Param>(
     );
 
     let text = param.normalized_value_to_string(value, true);
-    painter.text(
+    fitted_text(
+        &painter,
         Pos2::new(c.x, rect.bottom()),
         Align2::CENTER_BOTTOM,
         text,
-        FontId::proportional(t.font_value),
+        t.font_value,
+        rect.width(),
         if g.active { t.accent_hi } else { t.text },
     );
 
@@ -205,6 +209,26 @@ pub fn knob<P: Param>(
     } else {
         resp.on_hover_text(doc)
     }
+}
+
+/// Draw `text` anchored at `pos`, shrinking the font (to at most 60 %) so that it is no
+/// wider than `max_width`.
+fn fitted_text(
+    painter: &egui::Painter,
+    pos: Pos2,
+    align: Align2,
+    text: String,
+    size: f32,
+    max_width: f32,
+    colour: Color32,
+) {
+    let mut galley = painter.layout_no_wrap(text.clone(), FontId::proportional(size), colour);
+    if galley.size().x > max_width && max_width > 0.0 {
+        let k = (max_width / galley.size().x).max(0.6);
+        galley = painter.layout_no_wrap(text, FontId::proportional(size * k), colour);
+    }
+    let rect = align.anchor_size(pos, galley.size());
+    painter.galley(rect.min, galley, colour);
 }
 
 /// A row (or column) of buttons choosing one value of an integer or enumerated `param`, each
