@@ -39,7 +39,10 @@ target_dir="$(cargo metadata --format-version 1 --no-deps |
     sed -n 's/.*"target_directory":"\([^"]*\)".*/\1/p')"
 bin="$target_dir/debug/trundle-standalone"
 
-display=":${SCREENSHOT_DISPLAY:-97}"
+# A free display number (a previous run's server may still be releasing its lock).
+n="${SCREENSHOT_DISPLAY:-97}"
+while [[ -e "/tmp/.X$n-lock" || -e "/tmp/.X11-unix/X$n" ]]; do n=$((n + 1)); done
+display=":$n"
 Xvfb "$display" -screen 0 1600x1200x24 -nolisten tcp >/dev/null 2>&1 &
 xvfb_pid=$!
 app_pid=""
@@ -54,6 +57,10 @@ for _ in $(seq 50); do
     xwininfo -root >/dev/null 2>&1 && break
     sleep 0.1
 done
+if ! xwininfo -root >/dev/null 2>&1; then
+    echo "Xvfb did not start on $display" >&2
+    exit 1
+fi
 
 log="$(mktemp)"
 "$bin" --backend dummy --sample-rate 48000 --period-size 512 >"$log" 2>&1 &

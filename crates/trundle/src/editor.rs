@@ -10,7 +10,7 @@
 //! │              │              │ trajectory,   │                             │
 //! │              │              │ amount        │                             │
 //! ├ BALL ───────────────────────┬ OBJECT ───────────────┬ OUTPUT ─────────────┤
-//! │ five knobs + AM law         │ three knobs + shape   │ gain + output, run, │
+//! │ five knobs + engine, AM law │ three knobs + shape   │ gain + output, run, │
 //! │                             │                       │ seed                │
 //! └ hints ─────────────────────────────────────────────── version · API · rate ┘
 //! ```
@@ -219,7 +219,7 @@ pub struct TrundleEditor {
 }
 
 /// The table rows with a designed control, by key.
-const PLACED: [&str; 23] = [
+const PLACED: [&str; 24] = [
     "size",
     "velocity",
     "roughness",
@@ -237,6 +237,7 @@ const PLACED: [&str; 23] = [
     "action_x",
     "action_y",
     "asymmetry_law",
+    "engine",
     "position_x",
     "position_y",
     "listen_x",
@@ -372,7 +373,7 @@ impl NiceEguiApp for TrundleEditor {
         }
 
         let body = panel(ui, l.ball, "BALL", None, &t);
-        let (knobs, side) = split_side(body, 5, 1.3);
+        let (knobs, side) = split_side(body, 5, 1.35);
         let band = self.knob_row(
             ui,
             knobs,
@@ -386,12 +387,28 @@ impl NiceEguiApp for TrundleEditor {
                 (ParamId::Sharpness, "Sharpness"),
             ],
         );
-        if let TableParam::Int(p) = self.params.get(ParamId::AsymmetryLaw) {
-            let column = side_column(side, band, 2, &t);
-            let (label, control) = labelled(column, &t);
-            widgets::caption(ui, label.center_top(), Align2::CENTER_TOP, "AM law", &t);
-            let doc = ParamId::AsymmetryLaw.spec().doc;
-            widgets::selector(ui, control, p, &setter, true, doc, &t);
+        // The side column: the engine and the AM law, two two-way selectors, stacked and
+        // centred on the knobs.
+        let row_h = 1.5 * t.font_small + 2.0 * 1.8 * t.font_small;
+        let gap = 0.8 * t.font_small;
+        let stack_h = (2.0 * row_h + gap).min(side.height());
+        let top = (band.center().y - 0.5 * stack_h)
+            .max(side.top())
+            .min(side.bottom() - stack_h);
+        for (i, (id, name)) in [
+            (ParamId::Engine, "Engine"),
+            (ParamId::AsymmetryLaw, "AM law"),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            if let TableParam::Int(p) = self.params.get(id) {
+                let y = top + i as f32 * (row_h + gap);
+                let column = Rect::from_x_y_ranges(side.x_range(), y..=y + row_h);
+                let (label, control) = labelled(column, &t);
+                widgets::caption(ui, label.center_top(), Align2::CENTER_TOP, name, &t);
+                widgets::selector(ui, control, p, &setter, true, id.spec().doc, &t);
+            }
         }
 
         let body = panel(ui, l.object, "OBJECT", None, &t);
