@@ -7,6 +7,12 @@
 //! trundle soak [--minutes 60] [--sample-rate 384000] [--preset P]   hours at the extremes
 //! trundle presets [--json]     the built-in scenes
 //! trundle params [--json]      every parameter ID, unit, range, default
+//! trundle physics -o force.wav [--kappa K --mu M --beta B --relief-um R --radius-mm R
+//!                 --speed-cm-s V --oversample N --seconds S --seed N --sample-rate HZ]
+//!                 [--impacts FILE.csv] | --drop-cm-s V     the physics engine's force
+//! trundle analyze FILE.wav|FILE.csv [--json]    impact statistics (TASLP §IV-B, §IV-E)
+//! trundle calibrate -o preset.json [physical settings]    a signal preset imitating them
+//! trundle tradeoff [--json] [--plot out.png] [--seconds S]  speed vs accuracy, measured
 //! ```
 //!
 //! The command drives the very same engine as the plugin ([`trundle_dsp::Voice`]) with
@@ -14,12 +20,17 @@
 //! (I/O), 2 bad input — every bad input is refused with a single `error: …` line naming
 //! it, before anything is rendered or written (see [`error`]).
 
+mod analyze;
 mod atomic;
+mod calibrate;
 mod error;
 mod level;
 mod list;
+mod physics_cmd;
 mod render;
 mod soak;
+mod stats;
+mod tradeoff;
 
 use clap::{Parser, Subcommand};
 use error::{failure, CliError};
@@ -53,6 +64,14 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Render the physics engine's force for explicit physical settings (TASLP §II-A, §III).
+    Physics(physics_cmd::PhysicsArgs),
+    /// Impact statistics of a force WAV or an impact list CSV (TASLP §IV-B, §IV-E).
+    Analyze(analyze::AnalyzeArgs),
+    /// Write a signal-model preset whose impact statistics imitate a physics run.
+    Calibrate(calibrate::CalibrateArgs),
+    /// Measure cost against accuracy for every speed/accuracy knob.
+    Tradeoff(tradeoff::TradeoffArgs),
 }
 
 /// Print to stdout; a closed pipe (`trundle params | head`) ends quietly, not in a panic.
@@ -79,6 +98,10 @@ fn main() -> ExitCode {
         Command::Soak(args) => soak::run(args).and_then(|line| emit(&format!("{line}\n"))),
         Command::Presets { json } => emit(&list::presets(*json)),
         Command::Params { json } => emit(&list::params(*json)),
+        Command::Physics(args) => physics_cmd::run(args).and_then(|l| emit(&format!("{l}\n"))),
+        Command::Analyze(args) => analyze::run(args).and_then(|t| emit(&t)),
+        Command::Calibrate(args) => calibrate::run(args).and_then(|t| emit(&t)),
+        Command::Tradeoff(args) => tradeoff::run(args).and_then(|t| emit(&t)),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -422,7 +422,11 @@ pub fn load_preset(arg: &str) -> Result<Preset, CliError> {
     Preset::from_json(&text).map_err(|e| err(e.to_string()))
 }
 
-fn check_destination(path: &Path, option: &str, overwrite: bool) -> Result<(), CliError> {
+pub(crate) fn check_destination(
+    path: &Path,
+    option: &str,
+    overwrite: bool,
+) -> Result<(), CliError> {
     let shown = quote(&path.display().to_string());
     if path.as_os_str().is_empty() || path.file_name().is_none() {
         return Err(input(format!("{option} {shown} is not a file name")));
@@ -465,7 +469,7 @@ fn io_fail(what: &str, path: &Path, e: impl std::fmt::Display) -> CliError {
 }
 
 /// The WAV being written, under a temporary name until [`WavOut::finish`].
-struct WavOut {
+pub(crate) struct WavOut {
     tmp: TempFile,
     sync: File,
     writer: hound::WavWriter<BufWriter<File>>,
@@ -474,7 +478,7 @@ struct WavOut {
 }
 
 impl WavOut {
-    fn create(dest: &Path, format: Format, sample_rate: u32) -> Result<Self, CliError> {
+    pub(crate) fn create(dest: &Path, format: Format, sample_rate: u32) -> Result<Self, CliError> {
         let (tmp, file) = TempFile::create_beside(dest, "tmp")
             .map_err(|e| io_fail("cannot create a temporary file beside", dest, e))?;
         let sync = file
@@ -493,7 +497,7 @@ impl WavOut {
 
     /// Write one sample in [−1, 1] (quantized to the format).
     #[inline]
-    fn write(&mut self, x: f64) -> Result<(), hound::Error> {
+    pub(crate) fn write(&mut self, x: f64) -> Result<(), hound::Error> {
         match self.format {
             Format::Pcm24 => {
                 let q = level::quantize(x, level::PCM24_MAX);
@@ -513,7 +517,7 @@ impl WavOut {
         }
     }
 
-    fn finish(self, dest: &Path, overwrite: bool) -> Result<Stats, CliError> {
+    pub(crate) fn finish(self, dest: &Path, overwrite: bool) -> Result<Stats, CliError> {
         let WavOut {
             tmp,
             sync,
@@ -543,14 +547,14 @@ fn persist(tmp: TempFile, dest: &Path, overwrite: bool, option: &str) -> Result<
 }
 
 /// The impact list being written.
-struct CsvOut {
+pub(crate) struct CsvOut {
     tmp: TempFile,
     writer: BufWriter<File>,
     error: Option<io::Error>,
 }
 
 impl CsvOut {
-    fn create(dest: &Path) -> Result<Self, CliError> {
+    pub(crate) fn create(dest: &Path) -> Result<Self, CliError> {
         let (tmp, file) = TempFile::create_beside(dest, "tmp")
             .map_err(|e| io_fail("cannot create a temporary file beside", dest, e))?;
         let mut writer = BufWriter::new(file);
@@ -564,7 +568,7 @@ impl CsvOut {
 
     /// Append one row (f64 `Display` is the shortest text that reads back exactly, and
     /// never uses exponent notation). The first I/O error is kept for [`CsvOut::check`].
-    fn row(&mut self, r: &ImpactRecord) {
+    pub(crate) fn row(&mut self, r: &ImpactRecord) {
         if self.error.is_none() {
             if let Err(e) = writeln!(self.writer, "{},{},{}", r.time_s, r.amplitude, r.duration_s) {
                 self.error = Some(e);
@@ -579,7 +583,7 @@ impl CsvOut {
         }
     }
 
-    fn finish(mut self, dest: &Path, overwrite: bool) -> Result<(), CliError> {
+    pub(crate) fn finish(mut self, dest: &Path, overwrite: bool) -> Result<(), CliError> {
         self.check()?;
         let CsvOut { tmp, writer, .. } = self;
         let file = writer
