@@ -66,6 +66,7 @@
 
 pub mod action;
 pub mod analysis;
+pub mod balls;
 pub mod dcblock;
 pub mod disk;
 pub mod engine;

@@ -324,6 +324,11 @@ impl Source {
         }
     }
 
+    /// The current (smoothed) velocity V.
+    pub fn velocity(&self) -> f64 {
+        self.velocity.value()
+    }
+
     /// True when the ball is at rest (velocity target and value 0): no impacts are made.
     pub fn at_rest(&self) -> bool {
         self.velocity.target() == 0.0 && self.velocity.value() == 0.0

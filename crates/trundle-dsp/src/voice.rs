@@ -1,4 +1,5 @@
-//! One ball on one object: the whole chain, driven by a [`Params`] set.
+//! A ball (and any extra balls, [`crate::balls`]) on one object: the whole chain, driven by
+//! a [`Params`] set.
 //!
 //! ```text
 //! Params ─┬► Source (series → pulses → AM → low-pass) ──┐ engine crossfade
@@ -20,6 +21,7 @@
 //! the same seed and parameters give the same samples whether rendered in blocks of 1 or
 //! 8192.
 
+use crate::balls::BallPool;
 use crate::dcblock::DcBlock;
 use crate::engine::{
     auto_oversample, Engine, PhysicsControls, ENGINE_CROSSFADE_S, PHYSICS_FORCE_SCALE,
@@ -76,6 +78,8 @@ pub struct Voice {
     /// Where the crossfade goes (0 or 1).
     engine_target: f32,
     phys_force: [f32; CHUNK],
+    /// Extra balls started like notes (see [`crate::balls`]).
+    balls: BallPool,
 }
 
 fn source_controls(p: &Params) -> SourceControls {
@@ -158,6 +162,7 @@ impl Voice {
             engine_mix: engine_target(params),
             engine_target: engine_target(params),
             phys_force: [0.0; CHUNK],
+            balls: BallPool::new(fs),
         };
         v.reset();
         v
@@ -215,6 +220,7 @@ impl Voice {
         self.source.set_sample_rate(self.fs);
         self.space.set_sample_rate(self.fs);
         self.dc.set_sample_rate(self.fs);
+        self.balls.set_sample_rate(self.fs);
         self.object.set_sample_rate(self.fs);
         self.apply_physics_controls();
         self.reset();
@@ -227,6 +233,7 @@ impl Voice {
         self.source.reset();
         self.space.reset();
         self.dc.reset();
+        self.balls.reset(self.seed);
         self.object.reset();
         self.snap_physics_controls();
         self.physics.reset();
@@ -283,6 +290,28 @@ impl Voice {
     /// many were dropped because the record was full (drain at least every ~30 000 impacts).
     pub fn drain_impacts(&mut self, f: impl FnMut(ImpactRecord)) -> u64 {
         self.source.drain_impacts(f)
+    }
+
+    /// Start an extra ball for `note` with note velocity `velocity` (0…1): pitch sets its
+    /// size, velocity its speed (mapping in [`crate::balls`]). Real-time safe.
+    pub fn note_on(&mut self, note: u8, velocity: f64) {
+        let (sc, pc) = (source_controls(&self.params), space_controls(&self.params));
+        self.balls.note_on(note, velocity, sc, pc);
+    }
+
+    /// Stop the extra ball(s) of `note`: they roll to a halt. Real-time safe.
+    pub fn note_off(&mut self, note: u8) {
+        self.balls.note_off(note);
+    }
+
+    /// Stop every extra ball. Real-time safe.
+    pub fn all_notes_off(&mut self) {
+        self.balls.all_notes_off();
+    }
+
+    /// Number of extra balls sounding.
+    pub fn active_balls(&self) -> usize {
+        self.balls.active()
     }
 
     /// The ball's current position on the object (normalised, see [`crate::space`]).
@@ -382,6 +411,11 @@ impl Voice {
             self.engine_mix = m;
         }
         self.space.process(&mut self.force);
+        if self.balls.active() > 0 {
+            // Extra balls roll on the same object: their forces add before it.
+            let (sc, pc) = (source_controls(&self.params), space_controls(&self.params));
+            self.balls.add_chunk(&mut self.force, sc, pc);
+        }
         // The object hears the force without its static load (see `dcblock`).
         self.dc.process(&self.force, &mut self.coupled);
         self.object.process_chunk(&self.coupled, &mut self.sound);
