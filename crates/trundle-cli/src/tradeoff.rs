@@ -326,15 +326,16 @@ fn plot(rows: &[Value], path: &Path, seconds: f64) -> Result<(), CliError> {
         for p in &pts {
             let color = if p.1 { RED } else { BLUE };
             let (x, y) = (p.2, pick(p));
-            chart
-                .draw_series(std::iter::once(Circle::new((x, y), 5, color.filled())))
-                .map_err(|e| err(e.to_string()))?;
-            chart
-                .draw_series(std::iter::once(Text::new(
+            // The label beside the marker (pixel offset), as plotters composes elements.
+            let element = EmptyElement::at((x, y))
+                + Circle::new((0, 0), 5, color.filled())
+                + Text::new(
                     p.0.clone(),
-                    (x, y),
+                    (8, -4),
                     ("sans-serif", 12).into_font().color(&BLACK),
-                )))
+                );
+            chart
+                .draw_series(std::iter::once(element))
                 .map_err(|e| err(e.to_string()))?;
         }
     }
