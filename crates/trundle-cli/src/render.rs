@@ -186,6 +186,9 @@ struct Plan {
     params: Params,
     /// The preset's keyframe lanes (lanes of parameters given with --set are dropped).
     automation: Vec<Lane>,
+    /// The preset's extra balls as note events (sample, note, Some(velocity) = on / None =
+    /// off), sorted by sample.
+    events: Vec<(u64, u8, Option<f64>)>,
     preset_name: String,
     sample_rate: u32,
     frames: u64,
@@ -317,9 +320,20 @@ fn plan(args: &RenderArgs) -> Result<Plan, CliError> {
         }
     }
 
+    let fs = f64::from(sample_rate);
+    let mut events = Vec::new();
+    for b in &preset.balls {
+        events.push(((b.start_s * fs).round() as u64, b.note, Some(b.velocity)));
+        if let Some(stop) = b.stop_s {
+            events.push(((stop * fs).round() as u64, b.note, None));
+        }
+    }
+    // Stable: an off and an on of the same note at the same sample keep the file's order.
+    events.sort_by_key(|e| e.0);
     Ok(Plan {
         params,
         automation,
+        events,
         preset_name: preset.name,
         sample_rate,
         frames,
@@ -773,21 +787,45 @@ fn render_pass(
 ) -> Result<(), CliError> {
     let mut block = vec![0f32; BLOCK];
     let mut done = 0u64;
+    let mut next_event_index = 0usize;
+    let next_event = &mut next_event_index;
     while done < frames {
         let n = (frames - done).min(BLOCK as u64) as usize;
         let out = &mut block[..n];
-        if plan.automation.is_empty() {
+        if plan.automation.is_empty() && plan.events.is_empty() {
             voice.process(out);
         } else {
+            // Split the block at automation steps and ball events (sample-exact).
             let fs = f64::from(plan.sample_rate);
-            for (k, piece) in out.chunks_mut(AUTOMATION_STEP).enumerate() {
-                let t = (done + (k * AUTOMATION_STEP) as u64) as f64 / fs;
-                let mut p = plan.params;
-                for lane in &plan.automation {
-                    p.set_clamped(lane.id, lane.value_at(t));
+            let mut pos = 0usize;
+            while pos < n {
+                let now = done + pos as u64;
+                while *next_event < plan.events.len() && plan.events[*next_event].0 <= now {
+                    let (_, note, vel) = plan.events[*next_event];
+                    match vel {
+                        Some(v) => voice.note_on(note, v),
+                        None => voice.note_off(note),
+                    }
+                    *next_event += 1;
                 }
-                voice.set_params(&p);
-                voice.process(piece);
+                let mut end = n as u64 + done;
+                if !plan.automation.is_empty() {
+                    if now % AUTOMATION_STEP as u64 == 0 {
+                        let t = now as f64 / fs;
+                        let mut p = plan.params;
+                        for lane in &plan.automation {
+                            p.set_clamped(lane.id, lane.value_at(t));
+                        }
+                        voice.set_params(&p);
+                    }
+                    end = end.min((now / AUTOMATION_STEP as u64 + 1) * AUTOMATION_STEP as u64);
+                }
+                if let Some(&(at, _, _)) = plan.events.get(*next_event) {
+                    end = end.min(at.max(now + 1));
+                }
+                let len = (end - now) as usize;
+                voice.process(&mut out[pos..pos + len]);
+                pos += len;
             }
         }
         let count = &mut impacts.count;

@@ -23,6 +23,10 @@
 //!   non-decreasing, values validated like `params`, linear in between and held before the
 //!   first and after the last point. The CLI renders them; in a DAW the host's automation
 //!   plays this role and the plugin loads the lanes' first values.
+//! * `balls` (optional) lists extra balls for offline renders, started and stopped like
+//!   notes ([`crate::balls`]): `[{"note": 60, "velocity": 0.7, "start_s": 0, "stop_s": 2}]`
+//!   (note 0–127: pitch → size; velocity 0–1 → speed; `stop_s` optional = until the end).
+//!   In a DAW, MIDI notes play this role.
 //! * Every `presets/*.json` of the repository is embedded at build time
 //!   ([`BUILTIN_PRESETS`]), so a plugin bundle is self-contained.
 
@@ -56,7 +60,25 @@ pub struct Preset {
     pub params: Params,
     /// Keyframe lanes (empty for a static scene).
     pub automation: Vec<Lane>,
+    /// Extra balls of the scene (empty for one ball).
+    pub balls: Vec<BallNote>,
 }
+
+/// One extra ball of a scene: a note held from `start_s` to `stop_s`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BallNote {
+    /// Note number 0–127 (pitch → ball size, see [`crate::balls`]).
+    pub note: u8,
+    /// Note velocity 0–1 (→ ball speed).
+    pub velocity: f64,
+    /// When the ball starts rolling (s).
+    pub start_s: f64,
+    /// When it stops (s); `None` = it rolls to the end of the render.
+    pub stop_s: Option<f64>,
+}
+
+/// Most extra balls a preset may list.
+pub const MAX_PRESET_BALLS: usize = 1024;
 
 /// One automated parameter: keyframes `(time_s, value)`, linear in between.
 #[derive(Clone, Debug, PartialEq)]
@@ -106,6 +128,8 @@ pub enum PresetError {
     UnknownBuiltin(String),
     /// A malformed automation lane.
     Automation(String),
+    /// A malformed ball list.
+    Balls(String),
 }
 
 impl fmt::Display for PresetError {
@@ -119,6 +143,7 @@ impl fmt::Display for PresetError {
             ),
             PresetError::Param(e) => write!(f, "{e}"),
             PresetError::Automation(e) => write!(f, "automation: {e}"),
+            PresetError::Balls(e) => write!(f, "balls: {e}"),
             PresetError::UnknownBuiltin(n) => {
                 write!(f, "no built-in preset '{n}' (available: ")?;
                 for (i, (stem, _)) in BUILTIN_PRESETS.iter().enumerate() {
@@ -152,7 +177,7 @@ impl Preset {
         for key in obj.keys() {
             if !matches!(
                 key.as_str(),
-                "trundle_preset" | "name" | "description" | "params" | "automation"
+                "trundle_preset" | "name" | "description" | "params" | "automation" | "balls"
             ) {
                 return Err(PresetError::Syntax(format!("unknown field '{key}'")));
             }
@@ -207,6 +232,10 @@ impl Preset {
             None => Vec::new(),
             Some(v) => parse_automation(v)?,
         };
+        let balls = match obj.get("balls") {
+            None => Vec::new(),
+            Some(v) => parse_balls(v)?,
+        };
         // A static load (the plugin) takes each lane's first value.
         for lane in &automation {
             params.set(lane.id, lane.points[0].1)?;
@@ -216,6 +245,7 @@ impl Preset {
             description,
             params,
             automation,
+            balls,
         })
     }
 
@@ -266,6 +296,23 @@ impl Preset {
                 lanes.insert(spec.key.to_string(), Value::Array(points));
             }
             top.insert("automation".into(), Value::Object(lanes));
+        }
+        if !self.balls.is_empty() {
+            let list = self
+                .balls
+                .iter()
+                .map(|b| {
+                    let mut m = Map::new();
+                    m.insert("note".into(), Value::from(b.note));
+                    m.insert("velocity".into(), Value::from(b.velocity));
+                    m.insert("start_s".into(), Value::from(b.start_s));
+                    if let Some(t) = b.stop_s {
+                        m.insert("stop_s".into(), Value::from(t));
+                    }
+                    Value::Object(m)
+                })
+                .collect();
+            top.insert("balls".into(), Value::Array(list));
         }
         serde_json::to_string_pretty(&Value::Object(top)).expect("a JSON value always serializes")
     }
@@ -341,6 +388,57 @@ fn parse_automation(v: &Value) -> Result<Vec<Lane>, PresetError> {
         });
     }
     Ok(lanes)
+}
+
+fn parse_balls(v: &Value) -> Result<Vec<BallNote>, PresetError> {
+    let bad = PresetError::Balls;
+    let arr = v
+        .as_array()
+        .filter(|a| a.len() <= MAX_PRESET_BALLS)
+        .ok_or_else(|| {
+            bad(format!(
+                "must be a list of at most {MAX_PRESET_BALLS} balls"
+            ))
+        })?;
+    let mut out = Vec::with_capacity(arr.len());
+    for (i, b) in arr.iter().enumerate() {
+        let o = b
+            .as_object()
+            .ok_or_else(|| bad(format!("ball {i} is not an object")))?;
+        for k in o.keys() {
+            if !matches!(k.as_str(), "note" | "velocity" | "start_s" | "stop_s") {
+                return Err(bad(format!("ball {i}: unknown field '{k}'")));
+            }
+        }
+        let num = |k: &str| o.get(k).and_then(Value::as_f64).filter(|x| x.is_finite());
+        let note = num("note")
+            .filter(|n| (0.0..=127.0).contains(n) && n.fract() == 0.0)
+            .ok_or_else(|| bad(format!("ball {i}: 'note' must be a whole number 0–127")))?;
+        let velocity = num("velocity")
+            .filter(|v| (0.0..=1.0).contains(v))
+            .ok_or_else(|| bad(format!("ball {i}: 'velocity' must be a number 0–1")))?;
+        let start_s = match o.get("start_s") {
+            None => 0.0,
+            Some(_) => num("start_s")
+                .filter(|t| *t >= 0.0)
+                .ok_or_else(|| bad(format!("ball {i}: 'start_s' must be a time ≥ 0")))?,
+        };
+        let stop_s = match o.get("stop_s") {
+            None => None,
+            Some(_) => Some(
+                num("stop_s")
+                    .filter(|t| *t >= start_s)
+                    .ok_or_else(|| bad(format!("ball {i}: 'stop_s' must be a time ≥ start_s")))?,
+            ),
+        };
+        out.push(BallNote {
+            note: note as u8,
+            velocity,
+            start_s,
+            stop_s,
+        });
+    }
+    Ok(out)
 }
 
 /// Number of parameters a preset can hold (for the docs and tests).
@@ -442,5 +540,33 @@ mod tests {
         assert_eq!(at(1.9).get(ParamId::Trajectory), 0.0);
         assert_eq!(at(2.0).get(ParamId::Trajectory), 2.0);
         assert_eq!(Preset::from_json(&p.to_json()).unwrap(), p);
+    }
+
+    #[test]
+    fn balls_parse_validate_and_round_trip() {
+        let ok = Preset::from_json(
+            r#"{"trundle_preset": 1, "name": "b", "balls": [
+                {"note": 60, "velocity": 0.5, "start_s": 0.5, "stop_s": 2},
+                {"note": 40, "velocity": 1}]}"#,
+        )
+        .unwrap();
+        assert_eq!(ok.balls.len(), 2);
+        assert_eq!(ok.balls[1].stop_s, None);
+        assert_eq!(ok.balls[1].start_s, 0.0);
+        assert_eq!(Preset::from_json(&ok.to_json()).unwrap(), ok);
+        let e = |b: &str| {
+            Preset::from_json(&format!(
+                r#"{{"trundle_preset": 1, "name": "x", "balls": {b}}}"#
+            ))
+            .unwrap_err()
+            .to_string()
+        };
+        assert!(e("{}").contains("list"));
+        assert!(e(r#"[{"note": 200, "velocity": 0.5}]"#).contains("0–127"));
+        assert!(e(r#"[{"note": 60, "velocity": 2}]"#).contains("velocity"));
+        assert!(
+            e(r#"[{"note": 60, "velocity": 0.5, "start_s": 2, "stop_s": 1}]"#).contains("stop_s")
+        );
+        assert!(e(r#"[{"note": 60, "velocity": 0.5, "colour": 1}]"#).contains("unknown field"));
     }
 }
