@@ -14,6 +14,24 @@
 //!
 //! Modes beyond the requested count keep ringing with zero input until they have decayed,
 //! so lowering the mode count never clicks.
+//!
+//! ## Level of detail (DESIGN "Speed and accuracy")
+//! * **Budget**: the [`Quality`] caps the number of modes ([`Quality::max_modes`]).
+//! * **Culling**: a mode whose level aₖ²·τₖ (its share of the output power under a
+//!   broadband excitation, the quantity the normalization above sums) lies more than
+//!   [`Quality::cull_db`] below the loudest mode's gets no input; like a mode above
+//!   Nyquist it keeps its pole and rings out, and it is processed only while it rings.
+//!   The normalization still counts it, so culling never changes the loudness. Because
+//!   the input gain is real (see [`crate::modal`]), switching a mode's input on or off
+//!   reaches the output only through its rotation: culling and un-culling never click.
+//!   The table's objects span at most about 86 dB between their loudest and quietest
+//!   modes (a 5 m wooden bar with decay ×30), so −90 dB (quality high) culls only beyond
+//!   that; −70 and −50 dB (normal, draft) cull the quiet tail of large, long-ringing
+//!   objects. Culling saves work in whole groups of [`LANES`] modes at the top of the
+//!   index range (the bank processes a prefix); a culled mode amid sounding ones costs as
+//!   before but no longer needs its input.
+//! * **Silence**: when the bank has rung out (all state flushed to zero) and a chunk's
+//!   input is exactly zero, [`Object::process_chunk`] writes zeros without touching a mode.
 
 use crate::material::Material;
 use crate::modal::{phasor_coeffs, ModalBank, ModeCoeffs, LANES};
@@ -26,6 +44,63 @@ pub const OBJECT_LEVEL: f64 = 300.0;
 /// Lowest mode frequency (Hz) the object will sound: first modes of huge objects below this
 /// are dropped like modes above Nyquist.
 pub const MIN_MODE_HZ: f64 = 10.0;
+
+/// The accuracy/cost budget (the `quality` parameter): mode cap, culling threshold and the
+/// physics engine's oversampling.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Quality {
+    /// At most 16 modes, culling at −50 dB, physics RK4 at one step per sample.
+    Draft,
+    /// At most 64 modes, culling at −70 dB, automatic physics oversampling.
+    Normal,
+    /// Every requested mode (≤ 256), culling at −90 dB, automatic physics oversampling.
+    #[default]
+    High,
+    /// Every requested mode, no culling, physics RK4 at the maximum oversampling.
+    Ultra,
+}
+
+impl Quality {
+    /// From the parameter table's variant index (draft, normal, high, ultra).
+    pub fn from_index(i: usize) -> Self {
+        match i {
+            0 => Quality::Draft,
+            1 => Quality::Normal,
+            3 => Quality::Ultra,
+            _ => Quality::High,
+        }
+    }
+
+    /// Largest number of modes the object sounds.
+    pub fn max_modes(self) -> usize {
+        match self {
+            Quality::Draft => 16,
+            Quality::Normal => 64,
+            Quality::High | Quality::Ultra => MAX_MODES,
+        }
+    }
+
+    /// Modes whose level aₖ²·τₖ is this many dB below the loudest mode's get no input
+    /// (−∞: no culling).
+    pub fn cull_db(self) -> f64 {
+        match self {
+            Quality::Draft => -50.0,
+            Quality::Normal => -70.0,
+            Quality::High => -90.0,
+            Quality::Ultra => f64::NEG_INFINITY,
+        }
+    }
+
+    /// The physics engine's RK4 steps per sample: `Some(n)`, or `None` for the automatic
+    /// choice ([`crate::engine::auto_oversample`]).
+    pub fn physics_oversample(self) -> Option<usize> {
+        match self {
+            Quality::Draft => Some(1),
+            Quality::Normal | Quality::High => None,
+            Quality::Ultra => Some(crate::physics::MAX_OVERSAMPLE),
+        }
+    }
+}
 
 /// The object controls.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -92,6 +167,13 @@ pub struct Object {
     log_size: Smoother,
     log_decay: Smoother,
     dirty: bool,
+    quality: Quality,
+    /// The mode count asked for (`modes` is this capped by the quality).
+    requested: usize,
+    /// Power ratio under which a mode is culled (0: never).
+    cull_ratio: f64,
+    /// Modes currently culled (sounding but given no input).
+    culled: usize,
 }
 
 impl Object {
@@ -113,6 +195,10 @@ impl Object {
             log_size: Smoother::new(c.size_m.max(1e-3).ln()),
             log_decay: Smoother::new(c.decay.max(1e-3).ln()),
             dirty: true,
+            quality: Quality::default(),
+            requested: c.modes.clamp(1, MAX_MODES),
+            cull_ratio: db_to_power(Quality::default().cull_db()),
+            culled: 0,
         };
         o.set_controls(c);
         o.snap_controls();
@@ -140,12 +226,60 @@ impl Object {
         self.material_y.set_target(c.material_y.clamp(-1.0, 1.0));
         self.log_size.set_target(c.size_m.clamp(0.01, 100.0).ln());
         self.log_decay.set_target(c.decay.clamp(1e-3, 1e3).ln());
-        let modes = c.modes.clamp(1, MAX_MODES);
+        self.requested = c.modes.clamp(1, MAX_MODES);
+        let modes = self.requested.min(self.quality.max_modes());
         if c.shape != self.shape || modes != self.modes {
             self.shape = c.shape;
             self.modes = modes;
             self.dirty = true;
         }
+    }
+
+    /// Set the budget (mode cap and culling threshold; applies at the next chunk, modes
+    /// beyond the cap ring out). Real-time safe.
+    pub fn set_quality(&mut self, quality: Quality) {
+        if quality != self.quality {
+            self.quality = quality;
+            let modes = self.requested.min(quality.max_modes());
+            if modes != self.modes {
+                self.modes = modes;
+                self.dirty = true;
+            }
+            self.set_cull_db(quality.cull_db());
+        }
+    }
+
+    /// The budget in force.
+    pub fn quality(&self) -> Quality {
+        self.quality
+    }
+
+    /// Override the culling threshold in dB below the loudest mode (−∞ disables culling;
+    /// values above 0 are treated as 0). Applies at the next chunk. Real-time safe.
+    pub fn set_cull_db(&mut self, db: f64) {
+        let ratio = db_to_power(db);
+        if ratio != self.cull_ratio {
+            self.cull_ratio = ratio;
+            self.dirty = true;
+        }
+    }
+
+    /// Number of modes culled at the last coefficient update (below the threshold: no
+    /// input, ringing out). A new threshold applies, and is counted, at the next chunk.
+    pub fn culled_modes(&self) -> usize {
+        self.culled
+    }
+
+    /// True when the object has rung out: every processed mode's state is zero, so a zero
+    /// input gives exact zeros.
+    pub fn is_silent(&self) -> bool {
+        self.bank.is_silent()
+    }
+
+    /// Mode·samples the bank has processed since `new` (see
+    /// [`ModalBank::mode_samples`]): the object's work, for tests and benches.
+    pub fn mode_samples(&self) -> u64 {
+        self.bank.mode_samples()
     }
 
     /// Jump the smoothed controls to their targets and recompute the modes.
@@ -199,12 +333,21 @@ impl Object {
         } else {
             0.0
         };
+        // Culling threshold on aₖ²·τₖ relative to the loudest mode (module docs).
+        let loudest = self
+            .info
+            .iter()
+            .fold(0.0f64, |m, i| m.max(i.gain * i.gain * i.decay_s));
+        let cull_below = loudest * self.cull_ratio;
         let mut last_active = 0;
+        self.culled = 0;
         for k in 0..MAX_MODES {
             let info = &mut self.info[k];
+            let culled = info.gain > 0.0 && info.gain * info.gain * info.decay_s < cull_below;
+            self.culled += culled as usize;
             info.gain *= norm;
             let ringing = self.bank.energy(k) > 0.0;
-            if info.gain > 0.0 {
+            if info.gain > 0.0 && !culled {
                 let (c, s) = phasor_coeffs(info.freq_hz, info.decay_s, fs);
                 self.bank.set_mode(
                     k,
@@ -216,8 +359,8 @@ impl Object {
                 );
                 last_active = k + 1;
             } else if ringing {
-                // Dropped while sounding: keep its last valid pole, stop its input, let it
-                // ring out (decay at this mode's own rate: never a click).
+                // Dropped or culled while sounding: keep its last valid pole, stop its
+                // input, let it ring out (decay at this mode's own rate: never a click).
                 let mut mc = self.bank.mode(k);
                 mc.g = 0.0;
                 if info.freq_hz < nyquist && info.freq_hz >= MIN_MODE_HZ {
@@ -254,19 +397,33 @@ impl Object {
         if moved || self.dirty {
             self.update();
         }
+        if self.bank.is_silent() && force.iter().all(|&x| x == 0.0) {
+            // Rung out and no input: the output is exactly zero; no mode is touched.
+            out.iter_mut().for_each(|y| *y = 0.0);
+            return;
+        }
         self.bank.process(force, out);
         self.bank.flush();
         // Shrink the processed range once ringing-out modes have decayed.
         let active = self.bank.active();
-        if active > 0 && self.info[active - 1].gain == 0.0 {
+        if active > 0 && self.bank.mode(active - 1).g == 0.0 {
             let mut last = 0;
             for k in 0..active {
-                if self.info[k].gain > 0.0 || self.bank.energy(k) > 0.0 {
+                if self.bank.mode(k).g > 0.0 || self.bank.energy(k) > 0.0 {
                     last = k + 1;
                 }
             }
             self.bank.set_active(last.div_ceil(LANES) * LANES);
         }
+    }
+}
+
+/// A level in dB (≤ 0) as a power ratio; −∞ (or NaN) gives 0.
+fn db_to_power(db: f64) -> f64 {
+    if db.is_nan() {
+        0.0
+    } else {
+        10f64.powf(db.min(0.0) / 10.0)
     }
 }
 

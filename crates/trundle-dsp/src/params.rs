@@ -78,6 +78,8 @@ pub enum ParamId {
     Trajectory,
     /// Which engine makes the force: signal model or physics (see [`crate::engine`]).
     Engine,
+    /// Accuracy/cost budget: mode cap, culling, physics oversampling (see [`crate::object::Quality`]).
+    Quality,
 }
 
 /// Names of the [`ParamId::Shape`] variants, in index order (see [`crate::shape::Shape`]).
@@ -90,6 +92,8 @@ pub const ASYMMETRY_LAW_NAMES: &[&str] = &["constant", "speed2"];
 pub const TRAJECTORY_NAMES: &[&str] = &["manual", "line", "circle"];
 /// Names of the [`ParamId::Engine`] variants, in index order (see [`crate::engine::Engine`]).
 pub const ENGINE_NAMES: &[&str] = &["signal", "physics"];
+/// Names of the [`ParamId::Quality`] variants, in index order (see [`crate::object::Quality`]).
+pub const QUALITY_NAMES: &[&str] = &["draft", "normal", "high", "ultra"];
 
 /// The description of one parameter.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -118,7 +122,7 @@ const FLOAT: ParamKind = ParamKind::Float { log: false };
 const LOG: ParamKind = ParamKind::Float { log: true };
 
 /// Number of parameters.
-pub const PARAM_COUNT: usize = 24;
+pub const PARAM_COUNT: usize = 25;
 
 /// The parameter table, indexed by [`ParamId`].
 pub const PARAMS: [ParamSpec; PARAM_COUNT] = [
@@ -384,6 +388,17 @@ pub const PARAMS: [ParamSpec; PARAM_COUNT] = [
         default: 0.0,
         kind: ParamKind::Enum(ENGINE_NAMES),
         doc: "signal = the fast statistical model (TASLP Fig. 5); physics = a Hunt-Crossley ball on a fractal surface integrated by RK4 (TASLP §II-A, §III; Rath 2003), driven by the same size/velocity/roughness/asymmetry controls; switching crossfades over 20 ms",
+    },
+    ParamSpec {
+        id: ParamId::Quality,
+        key: "quality",
+        name: "Quality",
+        unit: "",
+        min: 0.0,
+        max: 3.0,
+        default: 2.0,
+        kind: ParamKind::Enum(QUALITY_NAMES),
+        doc: "Cost budget: draft = at most 16 modes, modes 50 dB below the loudest culled, physics RK4 1x; normal = at most 64 modes, culling at -70 dB; high = every requested mode, culling at -90 dB; ultra = no culling, physics RK4 8x. Culled and capped modes ring out (no clicks)",
     },
 ];
 

@@ -27,7 +27,7 @@ use crate::engine::{
     auto_oversample, Engine, PhysicsControls, ENGINE_CROSSFADE_S, PHYSICS_FORCE_SCALE,
 };
 use crate::modulation::AsymmetryLaw;
-use crate::object::{Object, ObjectControls};
+use crate::object::{Object, ObjectControls, Quality};
 use crate::params::{ParamId, Params};
 use crate::physics::{PhysicsEngine, MAX_OVERSAMPLE};
 use crate::shape::Shape;
@@ -80,6 +80,9 @@ pub struct Voice {
     phys_force: [f32; CHUNK],
     /// Extra balls started like notes (see [`crate::balls`]).
     balls: BallPool,
+    /// The last chunk's force and DC-blocked force were exactly zero (the DC blocker's
+    /// state is then zero too): with a zero force it may be skipped.
+    quiet: bool,
 }
 
 fn source_controls(p: &Params) -> SourceControls {
@@ -115,6 +118,10 @@ fn object_controls(p: &Params) -> ObjectControls {
         modes: p.modes(),
         decay: p.get(ParamId::Decay),
     }
+}
+
+fn quality(p: &Params) -> Quality {
+    Quality::from_index(p.get(ParamId::Quality) as usize)
 }
 
 fn engine_target(p: &Params) -> f32 {
@@ -163,14 +170,19 @@ impl Voice {
             engine_target: engine_target(params),
             phys_force: [0.0; CHUNK],
             balls: BallPool::new(fs),
+            quiet: false,
         };
+        v.object.set_quality(quality(params));
+        v.object.set_controls(object_controls(params));
         v.reset();
         v
     }
 
     fn oversample(&self) -> usize {
         if self.phys_oversample == 0 {
-            auto_oversample(self.fs)
+            quality(&self.params)
+                .physics_oversample()
+                .unwrap_or_else(|| auto_oversample(self.fs))
         } else {
             self.phys_oversample
         }
@@ -243,6 +255,7 @@ impl Voice {
         self.force_mix.snap_to_target();
         self.started = false;
         self.chunk_pos = 0;
+        self.quiet = false;
     }
 
     /// The current parameter targets.
@@ -254,10 +267,15 @@ impl Voice {
     /// the seed restarts the series; shape and mode count apply at the next chunk.
     /// Real-time safe.
     pub fn set_params(&mut self, params: &Params) {
+        let quality_changed = quality(params) != quality(&self.params);
         self.params = *params;
         self.source.set_controls(source_controls(params));
         self.space.set_controls(space_controls(params));
+        self.object.set_quality(quality(params));
         self.object.set_controls(object_controls(params));
+        if quality_changed {
+            self.apply_physics_controls();
+        }
         self.gain.set_target(params.gain_linear());
         self.force_mix
             .set_target(if params.force_only() { 1.0 } else { 0.0 });
@@ -416,8 +434,29 @@ impl Voice {
             let (sc, pc) = (source_controls(&self.params), space_controls(&self.params));
             self.balls.add_chunk(&mut self.force, sc, pc);
         }
+        let silent_force = self.force.iter().all(|&f| f == 0.0);
+        if self.quiet
+            && silent_force
+            && m0 == 0.0
+            && target == 0.0
+            && self.source.at_rest()
+            && self.balls.active() == 0
+            && self.object.is_silent()
+        {
+            // Silence skip (DESIGN "Speed and accuracy"): the ball at rest on the signal
+            // engine, no extra ball, the DC blocker settled (its input and output were zero
+            // last chunk, so `coupled` is still all zero) and the object rung out. The
+            // object only advances its control smoothers (it touches no mode for a zero
+            // input, see `object`), and the output is exactly zero: the same samples and
+            // state as the full path, at a fraction of its cost.
+            self.object.process_chunk(&self.coupled, &mut self.sound);
+            self.gain.advance(CHUNK, fs);
+            self.force_mix.advance(CHUNK, fs);
+            return;
+        }
         // The object hears the force without its static load (see `dcblock`).
         self.dc.process(&self.force, &mut self.coupled);
+        self.quiet = silent_force && self.coupled.iter().all(|&c| c == 0.0);
         self.object.process_chunk(&self.coupled, &mut self.sound);
         let (g0, g1) = self.gain.advance(CHUNK, fs);
         let (x0, x1) = self.force_mix.advance(CHUNK, fs);
