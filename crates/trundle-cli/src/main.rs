@@ -13,6 +13,7 @@
 //! trundle analyze FILE.wav|FILE.csv [--json]    impact statistics (TASLP §IV-B, §IV-E)
 //! trundle calibrate -o preset.json [physical settings]    a signal preset imitating them
 //! trundle tradeoff [--json] [--plot out.png] [--seconds S]  speed vs accuracy, measured
+//! trundle bench [--json] [--quick]    what the engine costs on this machine
 //! ```
 //!
 //! The command drives the very same engine as the plugin ([`trundle_dsp::Voice`]) with
@@ -22,6 +23,7 @@
 
 mod analyze;
 mod atomic;
+mod bench;
 mod calibrate;
 mod error;
 mod level;
@@ -72,6 +74,8 @@ enum Command {
     Calibrate(calibrate::CalibrateArgs),
     /// Measure cost against accuracy for every speed/accuracy knob.
     Tradeoff(tradeoff::TradeoffArgs),
+    /// Measure what Trundle costs on this machine (ns per sample, real-time factor).
+    Bench(bench::BenchArgs),
 }
 
 /// Print to stdout; a closed pipe (`trundle params | head`) ends quietly, not in a panic.
@@ -102,6 +106,7 @@ fn main() -> ExitCode {
         Command::Analyze(args) => analyze::run(args).and_then(|t| emit(&t)),
         Command::Calibrate(args) => calibrate::run(args).and_then(|t| emit(&t)),
         Command::Tradeoff(args) => tradeoff::run(args).and_then(|t| emit(&t)),
+        Command::Bench(args) => bench::run(args).and_then(|t| emit(&t)),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,0 +1,296 @@
+//! `trundle bench [--json] [--quick]`: what Trundle costs on this machine, in a few seconds.
+//!
+//! Every figure is the best of several timed repetitions (the least disturbed by other
+//! processes on a shared machine), at 48 kHz, rendering blocks of 512 samples:
+//!
+//! | key | what runs |
+//! |---|---|
+//! | `modal_ns_per_mode_sample` | the Mathews–Smith bank alone, 128 modes, chunks of 64 samples, run-time kernel |
+//! | `voice_ns_per_sample` | a default voice (signal engine) with 32 modes |
+//! | `physics_ns_per_sample` | the same with `engine = physics` |
+//! | `scene16_ns_per_sample` | 16 default voices (seeds 1…16) summed: sixteen balls on sixteen objects |
+//! | `balls16_ns_per_sample` | one voice with 16 extra balls on its object ([`trundle_dsp::balls`]) |
+//! | `idle_ns_per_sample` | a voice whose ball is at rest and whose object has rung out |
+//!
+//! plus the bank and the voice at 8/32/128 modes, the real-time factor (seconds of audio
+//! per second of computing) and the voices one core sustains. The anchors printed beside
+//! them are DESIGN.md's ("Speed and accuracy"): the Sound Design Toolkit's rolling model at
+//! 457/1155/4397 ns per sample for 8/32/128 modes, a hand-vectorized f32 phasor bank at
+//! 0.20–0.38 ns per mode·sample.
+
+use std::hint::black_box;
+use std::time::{Duration, Instant};
+
+use clap::Args;
+use serde_json::json;
+use trundle_dsp::modal::{phasor_coeffs, Kernel, ModalBank, ModeCoeffs};
+use trundle_dsp::{ParamId, Params, Voice, CHUNK};
+
+use crate::error::{failure, CliError};
+
+const FS: f64 = 48_000.0;
+const BLOCK: usize = 512;
+/// The SDT rolling model (C, -O3) on these machines, ns per output sample at 8/32/128 modes.
+const SDT_NS: [(usize, f64); 3] = [(8, 457.0), (32, 1155.0), (128, 4397.0)];
+/// Target for the bank at 128 modes (ns per mode·sample).
+const TARGET_MODAL: f64 = 0.3;
+/// Target for the signal voice at 32 modes (ns per sample).
+const TARGET_VOICE: f64 = 23.0;
+/// Target for the physics voice at 32 modes: a fifth of SDT's 1155 ns.
+const TARGET_PHYSICS: f64 = 231.0;
+
+/// Arguments of `trundle bench`.
+#[derive(Args, Debug)]
+pub struct BenchArgs {
+    /// Print one JSON object instead of the table.
+    #[arg(long)]
+    pub json: bool,
+    /// Time each item for about 20 ms instead of 300 ms (rougher; for tests and CI).
+    #[arg(long)]
+    pub quick: bool,
+}
+
+/// Time `work` (which processes `samples` output samples per call): repeat until `budget`
+/// is spent (at least 3 times) and return the best ns per sample.
+fn best_ns(budget: Duration, samples: usize, mut work: impl FnMut()) -> f64 {
+    work(); // warm caches and branch predictors
+    let start = Instant::now();
+    let mut best = f64::INFINITY;
+    let mut reps = 0;
+    while reps < 3 || start.elapsed() < budget {
+        let t = Instant::now();
+        work();
+        best = best.min(t.elapsed().as_nanos() as f64 / samples as f64);
+        reps += 1;
+    }
+    best
+}
+
+fn params(modes: usize, engine: &str, seed: u64) -> Result<Params, CliError> {
+    let mut p = Params::default();
+    p.set(ParamId::Modes, modes as f64)
+        .and_then(|()| p.set(ParamId::Seed, seed as f64))
+        .and_then(|()| p.set_text("engine", engine))
+        .map_err(|e| failure(format!("bench parameters: {e}")))?;
+    Ok(p)
+}
+
+/// A voice warmed past its onset (every mode sounding).
+fn warm_voice(p: &Params) -> Voice {
+    let mut v = Voice::new(FS, p);
+    let mut buf = vec![0f32; BLOCK];
+    for _ in 0..100 {
+        v.process(&mut buf);
+    }
+    v
+}
+
+/// ns per output sample of `voices` rendered and summed, 0.1 s of audio per repetition.
+fn voices_ns(budget: Duration, voices: &mut [Voice]) -> f64 {
+    let blocks = (0.1 * FS) as usize / BLOCK;
+    let mut buf = vec![0f32; BLOCK];
+    let mut mix = vec![0f32; BLOCK];
+    best_ns(budget, blocks * BLOCK, || {
+        for _ in 0..blocks {
+            mix.iter_mut().for_each(|m| *m = 0.0);
+            for v in voices.iter_mut() {
+                v.process(&mut buf);
+                mix.iter_mut().zip(&buf).for_each(|(m, b)| *m += b);
+            }
+            black_box(&mix);
+        }
+    })
+}
+
+/// ns per mode·sample of the bank alone with `modes` modes (object-like settings).
+fn modal_ns(budget: Duration, modes: usize) -> f64 {
+    let mut bank = ModalBank::new(modes);
+    for k in 0..modes {
+        let (c, s) = phasor_coeffs(100.0 * (1.0 + 0.61 * k as f64), 0.5, FS);
+        bank.set_mode(k, ModeCoeffs { c, s, g: 1e-3 });
+    }
+    bank.set_active(modes);
+    let mut state = 1u32;
+    let input: Vec<f32> = (0..4_800)
+        .map(|_| {
+            state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (state >> 8) as f32 / (1u32 << 24) as f32 - 0.5
+        })
+        .collect();
+    let mut out = vec![0f32; input.len()];
+    let ns = best_ns(budget, input.len(), || {
+        for (x, y) in input.chunks(CHUNK).zip(out.chunks_mut(CHUNK)) {
+            bank.process(black_box(x), y);
+            bank.flush();
+        }
+        black_box(&out);
+    });
+    ns / modes as f64
+}
+
+/// Every measurement.
+struct Report {
+    kernel: Kernel,
+    modal: Vec<(usize, f64)>,
+    voice: Vec<(usize, f64)>,
+    physics: f64,
+    scene16: f64,
+    balls16: f64,
+    idle: f64,
+}
+
+fn measure(quick: bool) -> Result<Report, CliError> {
+    let budget = Duration::from_millis(if quick { 20 } else { 300 });
+    let modal = [8, 32, 128]
+        .into_iter()
+        .map(|m| (m, modal_ns(budget, m)))
+        .collect();
+    let mut voice = Vec::new();
+    for m in [8, 32, 128] {
+        let mut v = [warm_voice(&params(m, "signal", 1)?)];
+        voice.push((m, voices_ns(budget, &mut v)));
+    }
+    let physics = voices_ns(budget, &mut [warm_voice(&params(32, "physics", 1)?)]);
+    let mut sixteen = (1..=16)
+        .map(|seed| params(32, "signal", seed).map(|p| warm_voice(&p)))
+        .collect::<Result<Vec<_>, _>>()?;
+    let scene16 = voices_ns(budget, &mut sixteen);
+    let mut balls = warm_voice(&params(32, "signal", 1)?);
+    for note in 0..16u8 {
+        balls.note_on(48 + 2 * note, 0.8);
+    }
+    let balls16 = voices_ns(budget, std::slice::from_mut(&mut balls));
+    let mut idle = warm_voice(&params(32, "signal", 1)?);
+    let mut still = *idle.params();
+    still
+        .set(ParamId::Velocity, 0.0)
+        .map_err(|e| failure(format!("bench parameters: {e}")))?;
+    idle.set_params(&still);
+    let mut buf = vec![0f32; BLOCK];
+    let mut waited = 0;
+    while !(idle.source().at_rest() && idle.object().is_silent()) {
+        idle.process(&mut buf);
+        waited += BLOCK;
+        if waited as f64 > 120.0 * FS {
+            return Err(failure("the idle voice never rang out"));
+        }
+    }
+    let idle = voices_ns(budget, std::slice::from_mut(&mut idle));
+    Ok(Report {
+        kernel: Kernel::detect(),
+        modal,
+        voice,
+        physics,
+        scene16,
+        balls16,
+        idle,
+    })
+}
+
+fn at(rows: &[(usize, f64)], modes: usize) -> f64 {
+    rows.iter().find(|r| r.0 == modes).map_or(f64::NAN, |r| r.1)
+}
+
+/// Seconds of audio per second of computing.
+fn realtime(ns_per_sample: f64) -> f64 {
+    1e9 / FS / ns_per_sample
+}
+
+fn verdict(value: f64, target: f64) -> String {
+    if value <= target {
+        "met".to_string()
+    } else {
+        format!("missed by {:.0} %", 100.0 * (value / target - 1.0))
+    }
+}
+
+fn table(r: &Report) -> String {
+    let mut s = format!(
+        "trundle bench — 48 kHz, blocks of {BLOCK}, kernel {}, best of repeated runs\n\n",
+        r.kernel.name()
+    );
+    s += "modal bank            ns/sample   ns/mode·sample   anchor\n";
+    for &(m, ns) in &r.modal {
+        s += &format!(
+            "  {m:>3} modes          {:>9.1}   {ns:>14.3}   hand-vectorized f32: 0.20–0.38\n",
+            ns * m as f64
+        );
+    }
+    s += "\nvoice (signal)        ns/sample   real-time ×   voices/core   SDT rolling ns/sample\n";
+    for &(m, ns) in &r.voice {
+        let sdt = SDT_NS.iter().find(|a| a.0 == m).map_or(f64::NAN, |a| a.1);
+        s += &format!(
+            "  {m:>3} modes          {ns:>9.1}   {:>11.0}   {:>11.0}   {sdt:.0} ({:.0}× faster)\n",
+            realtime(ns),
+            realtime(ns).floor(),
+            sdt / ns
+        );
+    }
+    s += &format!(
+        "\nphysics, 32 modes     {:>9.1} ns/sample   real-time ×{:.0}\n",
+        r.physics,
+        realtime(r.physics)
+    );
+    s += &format!(
+        "16 voices summed      {:>9.1} ns/sample   real-time ×{:.0}\n",
+        r.scene16,
+        realtime(r.scene16)
+    );
+    s += &format!(
+        "1 voice + 16 balls    {:>9.1} ns/sample   real-time ×{:.0}\n",
+        r.balls16,
+        realtime(r.balls16)
+    );
+    s += &format!(
+        "idle voice            {:>9.1} ns/sample   ({:.1} % of an active 32-mode voice)\n",
+        r.idle,
+        100.0 * r.idle / at(&r.voice, 32)
+    );
+    s += &format!(
+        "\ntargets: bank ≤ {TARGET_MODAL} ns/mode·sample at 128 modes: {}; voice ≤ {TARGET_VOICE} ns/sample at 32 modes: {}; physics ≤ {TARGET_PHYSICS} ns/sample at 32 modes: {}\n",
+        verdict(at(&r.modal, 128), TARGET_MODAL),
+        verdict(at(&r.voice, 32), TARGET_VOICE),
+        verdict(r.physics, TARGET_PHYSICS),
+    );
+    s
+}
+
+fn to_json(r: &Report) -> String {
+    let by_modes = |rows: &[(usize, f64)]| {
+        rows.iter()
+            .map(|&(m, v)| (m.to_string(), json!(v)))
+            .collect::<serde_json::Map<_, _>>()
+    };
+    let voice32 = at(&r.voice, 32);
+    let v = json!({
+        "sample_rate_hz": FS,
+        "block": BLOCK,
+        "kernel": r.kernel.name(),
+        "modal_ns_per_mode_sample": at(&r.modal, 128),
+        "modal_ns_per_mode_sample_by_modes": by_modes(&r.modal),
+        "voice_ns_per_sample": voice32,
+        "voice_ns_per_sample_by_modes": by_modes(&r.voice),
+        "voice_realtime_factor": realtime(voice32),
+        "voices_per_core": realtime(voice32).floor(),
+        "physics_ns_per_sample": r.physics,
+        "scene16_ns_per_sample": r.scene16,
+        "balls16_ns_per_sample": r.balls16,
+        "idle_ns_per_sample": r.idle,
+        "targets": {
+            "modal_ns_per_mode_sample": TARGET_MODAL,
+            "voice_ns_per_sample": TARGET_VOICE,
+            "physics_ns_per_sample": TARGET_PHYSICS,
+        },
+        "sdt_rolling_ns_per_sample_by_modes": SDT_NS
+            .iter()
+            .map(|&(m, v)| (m.to_string(), json!(v)))
+            .collect::<serde_json::Map<_, _>>(),
+    });
+    format!("{v}\n")
+}
+
+/// Run; returns the table or the JSON.
+pub fn run(args: &BenchArgs) -> Result<String, CliError> {
+    let r = measure(args.quick)?;
+    Ok(if args.json { to_json(&r) } else { table(&r) })
+}

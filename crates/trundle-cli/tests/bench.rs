@@ -1,0 +1,61 @@
+//! `trundle bench --json --quick`: one JSON object whose timings are all present, finite
+//! and positive, and consistent with each other where the model says they must be.
+
+use std::process::Command;
+
+const BIN: &str = env!("CARGO_BIN_EXE_trundle");
+
+#[test]
+fn bench_json_has_every_timing() {
+    let o = Command::new(BIN)
+        .args(["bench", "--json", "--quick"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("one JSON object");
+    let get = |key: &str| {
+        let x = v[key]
+            .as_f64()
+            .unwrap_or_else(|| panic!("no number {key} in {v}"));
+        assert!(x.is_finite() && x > 0.0, "{key} = {x}");
+        x
+    };
+    let modal = get("modal_ns_per_mode_sample");
+    let voice = get("voice_ns_per_sample");
+    get("physics_ns_per_sample");
+    let scene = get("scene16_ns_per_sample");
+    get("balls16_ns_per_sample");
+    get("idle_ns_per_sample");
+    get("voice_realtime_factor");
+    get("voices_per_core");
+    assert!(v["kernel"].is_string());
+    for modes in ["8", "32", "128"] {
+        for key in [
+            "modal_ns_per_mode_sample_by_modes",
+            "voice_ns_per_sample_by_modes",
+        ] {
+            let x = v[key][modes].as_f64().expect(key);
+            assert!(x.is_finite() && x > 0.0, "{key}[{modes}] = {x}");
+        }
+    }
+    // Sixteen voices cost more than one; a voice costs more than its 32-mode bank alone
+    // would (it runs the bank plus the source). Loose: timing on a shared machine.
+    assert!(scene > voice, "16 voices {scene} ns vs one {voice} ns");
+    assert!(
+        voice > 32.0 * modal * 0.5,
+        "voice {voice} vs bank {modal} per mode"
+    );
+}
+
+#[test]
+fn bench_table_names_the_targets() {
+    let o = Command::new(BIN)
+        .args(["bench", "--quick"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = String::from_utf8(o.stdout).unwrap();
+    for needle in ["ns/mode·sample", "real-time", "voices/core", "targets:"] {
+        assert!(text.contains(needle), "no {needle:?} in\n{text}");
+    }
+}
