@@ -10,14 +10,29 @@
 //!                                          L = R ◄───────┴──► spectrum tap (editor open only)
 //! ```
 //!
-//! * Sample-accurate automation: nice-plug splits the host buffer at parameter events; the
-//!   voice takes the new targets and smooths them itself (no zipper noise, no clicks).
-//! * Real-time safety: the voice and every buffer are allocated in `activate`; `process`
-//!   never allocates (nice-plug's `assert_process_allocs` is on), locks or logs.
-//! * Transport: with `run = with transport` (default) the ball rolls while the host plays;
-//!   on stop its velocity glides to 0 and the object rings out naturally; a start after
-//!   silence resets the voice, so every playback from silence is the same.
-//! * Bypass fades the output out over 10 ms and back in, never clicking.
+//! * **Automation** is sample-accurate in the sense that matters for a bounce: nice-plug
+//!   splits the host buffer at every parameter event, and the voice takes the new targets at
+//!   its next 64-sample chunk boundary ([`trundle_dsp::CHUNK`], 1.3 ms at 48 kHz) and glides
+//!   to them itself (no zipper noise, no clicks). The chunk grid is counted from the last
+//!   reset, not from the host's buffers, so the output depends on when events happen, never
+//!   on how the host slices its blocks.
+//! * **Real-time safety**: the voice and every buffer are allocated in `activate`; `process`
+//!   never allocates (nice-plug's `assert_process_allocs` is on in debug builds), locks or
+//!   logs.
+//! * **Transport**: with `run = with transport` (default) the ball rolls while the host plays;
+//!   on stop its velocity glides to 0 (the pulses fade, no click) and the object rings out
+//!   naturally into exact silence. A host that sends no transport at all (a free-running
+//!   host, a live rig) is treated as playing, so the plugin is never mute for lack of a
+//!   play button. Once stopped and silent for 0.25 s the voice is not run at all.
+//! * **Determinism**: `reset` (the host's reset, or start-processing) and every transport
+//!   start after silence put the voice in the exact state `Voice::new` would give with the
+//!   current parameters — seed, preset or restored state included — so every playback from
+//!   silence, and every instance restored from the same saved state, produces the same
+//!   samples.
+//! * **Bypass** fades the output out over 10 ms and back in, never clicking; fully bypassed,
+//!   the voice is paused (no CPU) and resumes where it was.
+//! * **State**: see [`params`] — older states are migrated, newer or corrupt ones rejected
+//!   (defaults, logged reason), every value validated before it is applied.
 
 use nice_plug::prelude::*;
 use std::sync::Arc;
@@ -34,6 +49,17 @@ use spectrum::SpectrumTap;
 const BYPASS_FADE_S: f32 = 0.010;
 /// Silence (seconds of exact zeros) after which a transport start resets the voice.
 const RESET_AFTER_SILENCE_S: f32 = 0.25;
+
+/// True when the host sent transport information with this block. nice-plug leaves every
+/// optional field empty when there is none (CLAP: a null `transport`; VST3: no process
+/// context); a CLAP transport always reports pre-roll and a VST3 one the sample position.
+fn host_has_transport(t: &Transport) -> bool {
+    t.preroll_active.is_some()
+        || t.pos_samples.is_some()
+        || t.tempo.is_some()
+        || t.pos_seconds.is_some()
+        || t.pos_beats.is_some()
+}
 
 /// The Trundle plugin.
 pub struct Trundle {
@@ -64,6 +90,39 @@ impl Default for Trundle {
     }
 }
 
+impl Trundle {
+    /// Put the voice in the state `Voice::new` gives with the current parameters. The
+    /// targets go in first: `Voice::reset` rebuilds the series, pulses and modes from them,
+    /// so a seed, preset or state loaded since the last block is honoured exactly.
+    ///
+    /// The voice is reset twice, the first time at a sharpness 1 away from the target:
+    /// trundle-dsp's `PulseShape::set_sharpness` keeps the pulse table it last built when
+    /// the new sharpness is within 10⁻⁴ of it, and `Voice::reset` goes through it, so after
+    /// a sharpness glide a single reset would keep a table built for a slightly different
+    /// value than `Voice::new` builds — the same state would then sound (slightly)
+    /// differently in a restored instance (found by the CLAP host test). The detour forces
+    /// the table to be rebuilt at exactly the target. Real-time safe (no allocation; a
+    /// second series warm-up and mode update, tens of microseconds, only on resets and
+    /// transport starts after silence). Remove it once `Source::reset` rebuilds the table
+    /// unconditionally.
+    fn restart_voice(voice: &mut Voice, dsp: &trundle_dsp::Params) {
+        let sharpness = dsp.get(ParamId::Sharpness);
+        let mut detour = *dsp;
+        detour.set_clamped(
+            ParamId::Sharpness,
+            if sharpness < 4.0 {
+                sharpness + 1.0
+            } else {
+                sharpness - 1.0
+            },
+        );
+        voice.set_params(&detour);
+        voice.reset();
+        voice.set_params(dsp);
+        voice.reset();
+    }
+}
+
 impl Plugin for Trundle {
     const NAME: &'static str = "Trundle";
     const VENDOR: &'static str = "Trundle";
@@ -90,6 +149,12 @@ impl Plugin for Trundle {
         editor::create(self.params.clone(), self.tap.clone())
     }
 
+    fn filter_state(state: &mut PluginState) {
+        for line in params::check_state(state) {
+            nice_warn!("Trundle state: {line}");
+        }
+    }
+
     fn activate(
         &mut self,
         _audio_io_layout: &AudioIOLayout,
@@ -100,6 +165,8 @@ impl Plugin for Trundle {
         self.params.to_dsp(&mut self.dsp);
         let fs = f64::from(buffer_config.sample_rate);
         match &mut self.voice {
+            // Same rate: keep the allocation; `reset` (always called before processing)
+            // rebuilds its state from the current parameters.
             Some(v) if v.sample_rate() == trundle_dsp::sanitize_sample_rate(fs) => {}
             _ => self.voice = Some(Voice::new(fs, &self.dsp)),
         }
@@ -112,10 +179,12 @@ impl Plugin for Trundle {
     }
 
     fn reset(&mut self) {
+        self.params.to_dsp(&mut self.dsp);
         if let Some(v) = &mut self.voice {
-            v.reset();
+            Self::restart_voice(v, &self.dsp);
         }
         self.silent_samples = usize::MAX / 2;
+        self.rolling = false;
         self.bypass_gain = if self.params.bypass.value() { 0.0 } else { 1.0 };
     }
 
@@ -126,47 +195,73 @@ impl Plugin for Trundle {
         context: &mut impl ProcessContext<Self>,
     ) -> ProcessStatus {
         let n = buffer.samples();
-        let Some(voice) = &mut self.voice else {
+        let (Some(voice), false) = (&mut self.voice, self.mono.is_empty()) else {
+            // Not activated: the host still gets a fully written (silent) buffer.
             for ch in buffer.as_slice() {
                 ch.fill(0.0);
             }
             return ProcessStatus::Normal;
         };
-        let rolling = self.params.run.value() == 1 || context.transport().playing;
+        let transport = context.transport();
+        let rolling =
+            self.params.run.value() == 1 || transport.playing || !host_has_transport(transport);
         self.params.to_dsp(&mut self.dsp);
         if !rolling {
             self.dsp.set_clamped(ParamId::Velocity, 0.0);
         }
         let silence = (RESET_AFTER_SILENCE_S * self.sample_rate) as usize;
-        if rolling && !self.rolling && self.silent_samples >= silence {
-            voice.reset();
+        let was_silent = self.silent_samples >= silence;
+        if rolling && !self.rolling && was_silent {
+            Self::restart_voice(voice, &self.dsp);
         }
         self.rolling = rolling;
         voice.set_params(&self.dsp);
 
         let bypass_target = if self.params.bypass.value() { 0.0 } else { 1.0 };
+        let editor_open = self.params.editor_state.is_open();
+        let idle = (!rolling && was_silent) || (bypass_target == 0.0 && self.bypass_gain == 0.0);
+        if idle {
+            // Nothing to hear: stopped and silent, or fully bypassed. The voice is not run.
+            for ch in buffer.as_slice() {
+                ch.fill(0.0);
+            }
+            self.silent_samples = self.silent_samples.saturating_add(n);
+            if editor_open {
+                self.mono.fill(0.0);
+                let mut done = 0;
+                while done < n {
+                    let len = (n - done).min(self.mono.len());
+                    self.tap.push(&self.mono[..len]);
+                    done += len;
+                }
+            }
+            return ProcessStatus::KeepAlive;
+        }
+
         let step = 1.0 / (BYPASS_FADE_S * self.sample_rate).max(1.0);
         let mut done = 0;
         while done < n {
             let len = (n - done).min(self.mono.len());
             let mono = &mut self.mono[..len];
             voice.process(mono);
-            for x in mono.iter_mut() {
-                if self.bypass_gain != bypass_target {
-                    self.bypass_gain = if self.bypass_gain < bypass_target {
-                        (self.bypass_gain + step).min(bypass_target)
-                    } else {
-                        (self.bypass_gain - step).max(bypass_target)
-                    };
+            if self.bypass_gain != 1.0 || bypass_target != 1.0 {
+                for x in mono.iter_mut() {
+                    if self.bypass_gain != bypass_target {
+                        self.bypass_gain = if self.bypass_gain < bypass_target {
+                            (self.bypass_gain + step).min(bypass_target)
+                        } else {
+                            (self.bypass_gain - step).max(bypass_target)
+                        };
+                    }
+                    *x *= self.bypass_gain;
                 }
-                *x *= self.bypass_gain;
             }
             if mono.iter().all(|x| *x == 0.0) {
                 self.silent_samples = self.silent_samples.saturating_add(len);
             } else {
                 self.silent_samples = 0;
             }
-            if self.params.editor_state.is_open() {
+            if editor_open {
                 self.tap.push(mono);
             }
             for ch in buffer.as_slice().iter_mut() {

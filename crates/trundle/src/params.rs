@@ -8,7 +8,30 @@
 //! parameters follow: `run` (transport behaviour) and `bypass`.
 //!
 //! `Params` is implemented by hand (nice-plug allows it) because the parameter list is data.
+//!
+//! # Saved state
+//!
+//! nice-plug saves every parameter's plain value under its stable ID, plus our persisted
+//! field `state_version` ([`STATE_VERSION`]). Before a state is applied, [`check_state`]
+//! (called from `Plugin::filter_state`) makes it exactly one this build understands, so a
+//! restored state always means one definite sound:
+//!
+//! * **older versions** are migrated by [`STATE_MIGRATIONS`], a version-keyed table (empty
+//!   while only version 1 exists), as presets are;
+//! * **a newer version**, or a version field that is not a number, cannot be interpreted:
+//!   the state is rejected and every parameter takes its default (the meaning of a newer
+//!   state cannot be guessed — the same rule as for preset files);
+//! * **each parameter** is validated against the table: a missing parameter takes its
+//!   default (so a restore never inherits the value the instance happened to have), an
+//!   unknown one is dropped, a value of the wrong type is converted when that is exact (an
+//!   integer for a float, a variant name or a whole float for an enumeration) and otherwise,
+//!   like a non-finite or out-of-range value, replaced by the default.
+//!
+//! Every change is logged with its reason (`nice_warn!`). A state that is not valid JSON at
+//! all never reaches us: nice-plug refuses it, the host is told the load failed and the
+//! instance keeps its current values.
 
+use nice_plug::plugin::ParamValue;
 use nice_plug::prelude::*;
 use nice_plug_egui::EguiEditorState;
 use std::collections::BTreeMap;
@@ -16,8 +39,25 @@ use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::Arc;
 use trundle_dsp::params::{ParamKind, ParamSpec, PARAMS};
 
-/// Version of the plugin's own persisted fields (bumped when their meaning changes).
+/// Version of the saved state (bumped when the meaning of a saved parameter or field
+/// changes; a step is then added to [`STATE_MIGRATIONS`]).
 pub const STATE_VERSION: u32 = 1;
+
+/// Name of the persisted field holding [`STATE_VERSION`].
+pub const STATE_VERSION_FIELD: &str = "state_version";
+
+/// Stable ID of the plugin-only transport parameter.
+pub const RUN_ID: &str = "run";
+/// Stable ID of the host bypass parameter.
+pub const BYPASS_ID: &str = "bypass";
+
+/// A state migration step: turns the saved parameters of version `from` into version
+/// `from + 1`, pushing a line per change onto the report.
+pub type StateMigration = fn(&mut BTreeMap<String, ParamValue>, &mut Vec<String>);
+
+/// State migrations, keyed by the version they upgrade from (applied in order). Empty while
+/// only version 1 exists; a version that renames or rescales a parameter adds its step here.
+pub static STATE_MIGRATIONS: &[(u32, StateMigration)] = &[];
 
 /// One table parameter as a nice-plug parameter.
 pub enum TableParam {
@@ -44,8 +84,14 @@ impl TableParam {
     }
 }
 
-/// How many decimals a value of this row is shown with.
-fn decimals(spec: &ParamSpec) -> usize {
+/// How many decimals value `v` of this row is shown with: three significant digits on a
+/// logarithmic control (read relative to its value: "0.0500 m", "1.20 m"), otherwise by the
+/// width of the range.
+fn decimals(spec: &ParamSpec, v: f64) -> usize {
+    if let ParamKind::Float { log: true } = spec.kind {
+        let magnitude = v.abs().max(1e-9).log10().floor() as i32;
+        return (2 - magnitude).clamp(0, 6) as usize;
+    }
     let span = spec.max - spec.min;
     if span >= 50.0 {
         1
@@ -73,11 +119,11 @@ pub fn format_value(spec: &ParamSpec, v: f64) -> String {
             if pct {
                 format!("{:.0} %", v * 100.0)
             } else if spec.unit.is_empty() {
-                format!("{v:.*}", decimals(spec))
+                format!("{v:.*}", decimals(spec, v))
             } else if spec.unit == "x" {
                 format!("×{v:.2}")
             } else {
-                format!("{v:.*} {}", decimals(spec), spec.unit)
+                format!("{v:.*} {}", decimals(spec, v), spec.unit)
             }
         }
     }
@@ -199,29 +245,409 @@ unsafe impl Params for TrundleParams {
             .zip(&self.table)
             .map(|(spec, p)| (spec.key.to_string(), p.ptr(), String::new()))
             .collect();
-        map.push(("run".into(), self.run.as_ptr(), String::new()));
-        map.push(("bypass".into(), self.bypass.as_ptr(), String::new()));
+        map.push((RUN_ID.into(), self.run.as_ptr(), String::new()));
+        map.push((BYPASS_ID.into(), self.bypass.as_ptr(), String::new()));
         map
     }
 
     fn serialize_fields(&self) -> BTreeMap<String, String> {
         let mut m = BTreeMap::new();
-        m.insert("state_version".into(), STATE_VERSION.to_string());
+        m.insert(STATE_VERSION_FIELD.into(), STATE_VERSION.to_string());
         m
     }
 
     fn deserialize_fields(&self, serialized: &BTreeMap<String, String>) {
-        // A state from a newer plugin or a corrupt field is not fatal: parameters are restored
-        // by the wrapper; our own fields fall back to defaults.
+        // `check_state` (run first, from `Plugin::filter_state`) has already migrated or
+        // rejected the state, so the version read here is the current one; anything else
+        // means the state bypassed that check, which is logged.
         let version = serialized
-            .get("state_version")
-            .and_then(|v| v.parse::<u32>().ok())
+            .get(STATE_VERSION_FIELD)
+            .and_then(|v| parse_version(v).ok())
             .unwrap_or(0);
         self.state_version.store(version, Ordering::Relaxed);
-        if version > STATE_VERSION {
+        if version != STATE_VERSION {
             nice_warn!(
-                "state written by a newer Trundle (version {version}); unknown fields ignored"
+                "Trundle state: persisted fields of version {version} applied without migration \
+                 (this build writes version {STATE_VERSION})"
             );
         }
+    }
+}
+
+/// Oldest state version this build can read (migrations start here).
+const OLDEST_STATE_VERSION: u32 = 1;
+
+/// Parse the persisted version field (nice-plug stores fields as JSON text; ours is a plain
+/// number).
+fn parse_version(text: &str) -> Result<u32, String> {
+    text.trim()
+        .parse::<u32>()
+        .map_err(|_| format!("'{STATE_VERSION_FIELD}' field {text:?} is not a version number"))
+}
+
+/// What a saved parameter must hold.
+#[derive(Clone, Copy)]
+enum Expect {
+    /// A row of the table.
+    Table(&'static ParamSpec),
+    /// `run`: 0 or 1.
+    Run,
+    /// `bypass`: a boolean.
+    Bypass,
+}
+
+impl Expect {
+    fn of(key: &str) -> Option<Self> {
+        match key {
+            RUN_ID => Some(Expect::Run),
+            BYPASS_ID => Some(Expect::Bypass),
+            _ => PARAMS.iter().find(|s| s.key == key).map(Expect::Table),
+        }
+    }
+
+    fn default_value(self) -> ParamValue {
+        match self {
+            Expect::Table(spec) => match spec.kind {
+                ParamKind::Float { .. } => ParamValue::F32(spec.default as f32),
+                ParamKind::Int | ParamKind::Enum(_) => ParamValue::I32(spec.default as i32),
+            },
+            Expect::Run => ParamValue::I32(0),
+            Expect::Bypass => ParamValue::Bool(false),
+        }
+    }
+
+    /// The value to load for `v`, with a note when it had to be converted; or why it is
+    /// refused.
+    fn check(self, v: &ParamValue) -> Result<(ParamValue, Option<String>), String> {
+        let whole = |x: f32| x.is_finite() && x.fract() == 0.0 && x.abs() < 2_147_483_648.0;
+        match self {
+            Expect::Table(spec) => {
+                let (lo, hi) = (spec.min, spec.max);
+                let in_range = |x: f64| x.is_finite() && x >= lo && x <= hi;
+                match (spec.kind, v) {
+                    (ParamKind::Float { .. }, ParamValue::F32(x)) => {
+                        // The range bounds as the f32 the parameter itself stores.
+                        let x64 = f64::from(*x);
+                        if x.is_finite() && *x >= lo as f32 && *x <= hi as f32 {
+                            Ok((ParamValue::F32(*x), None))
+                        } else {
+                            Err(format!("value {x64} is outside {lo}..={hi}"))
+                        }
+                    }
+                    (ParamKind::Float { .. }, ParamValue::I32(i)) if in_range(f64::from(*i)) => {
+                        Ok((
+                            ParamValue::F32(*i as f32),
+                            Some(format!("integer {i} read as a float")),
+                        ))
+                    }
+                    (ParamKind::Int | ParamKind::Enum(_), ParamValue::I32(i)) => {
+                        if in_range(f64::from(*i)) {
+                            Ok((ParamValue::I32(*i), None))
+                        } else {
+                            Err(format!("value {i} is outside {lo}..={hi}"))
+                        }
+                    }
+                    (ParamKind::Int | ParamKind::Enum(_), ParamValue::F32(x))
+                        if whole(*x) && in_range(f64::from(*x)) =>
+                    {
+                        Ok((
+                            ParamValue::I32(*x as i32),
+                            Some(format!("whole float {x} read as an integer")),
+                        ))
+                    }
+                    (ParamKind::Enum(_), ParamValue::String(name)) => match spec.parse(name) {
+                        Ok(index) => Ok((
+                            ParamValue::I32(index as i32),
+                            Some(format!("variant name {name:?} read as index {index}")),
+                        )),
+                        Err(e) => Err(e.to_string()),
+                    },
+                    (_, other) => Err(format!("value {other:?} has the wrong type")),
+                }
+            }
+            Expect::Run => match v {
+                ParamValue::I32(i @ (0 | 1)) => Ok((ParamValue::I32(*i), None)),
+                ParamValue::F32(x) if *x == 0.0 || *x == 1.0 => Ok((
+                    ParamValue::I32(*x as i32),
+                    Some(format!("whole float {x} read as an integer")),
+                )),
+                other => Err(format!("value {other:?} is not 0 or 1")),
+            },
+            Expect::Bypass => match v {
+                ParamValue::Bool(b) => Ok((ParamValue::Bool(*b), None)),
+                ParamValue::I32(i @ (0 | 1)) => Ok((
+                    ParamValue::Bool(*i == 1),
+                    Some(format!("integer {i} read as a boolean")),
+                )),
+                other => Err(format!("value {other:?} is not a boolean")),
+            },
+        }
+    }
+}
+
+/// Every saved parameter at its default: what a rejected state loads.
+pub fn default_state_params() -> BTreeMap<String, ParamValue> {
+    PARAMS
+        .iter()
+        .map(|s| s.key)
+        .chain([RUN_ID, BYPASS_ID])
+        .map(|key| {
+            let e = Expect::of(key).expect("every listed key is known");
+            (key.to_string(), e.default_value())
+        })
+        .collect()
+}
+
+/// Make a saved state one this build understands (see the module docs): migrate an older
+/// version, reject a newer or unreadable one (every parameter at its default), validate
+/// every parameter, fill in missing ones with defaults. Returns one line per change, with
+/// its reason, for the log; an empty report means the state was loaded as saved.
+///
+/// # Allocation
+/// Allocates (strings, maps): runs where nice-plug loads state, never in `process`.
+pub fn check_state(state: &mut PluginState) -> Vec<String> {
+    let mut report = Vec::new();
+    let version = match state.fields.get(STATE_VERSION_FIELD) {
+        None => {
+            report.push(format!(
+                "no '{STATE_VERSION_FIELD}' field: read as version {OLDEST_STATE_VERSION}"
+            ));
+            Ok(OLDEST_STATE_VERSION)
+        }
+        Some(text) => parse_version(text),
+    };
+    let refusal = match &version {
+        Err(why) => Some(why.clone()),
+        Ok(v) if *v > STATE_VERSION => Some(format!(
+            "written by a newer Trundle (state version {v}; this build reads versions \
+             {OLDEST_STATE_VERSION} to {STATE_VERSION}), whose meaning cannot be guessed"
+        )),
+        Ok(v) if *v < OLDEST_STATE_VERSION => Some(format!(
+            "state version {v} is older than any Trundle release (oldest {OLDEST_STATE_VERSION})"
+        )),
+        Ok(_) => None,
+    };
+    for key in state.fields.keys() {
+        if key != STATE_VERSION_FIELD {
+            report.push(format!("unknown persisted field '{key}' ignored"));
+        }
+    }
+    state.fields.clear();
+    state
+        .fields
+        .insert(STATE_VERSION_FIELD.into(), STATE_VERSION.to_string());
+
+    if let Some(why) = refusal {
+        report.push(format!(
+            "state rejected, every parameter at its default: {why}"
+        ));
+        state.params = default_state_params();
+        return report;
+    }
+    let version = version.unwrap_or(OLDEST_STATE_VERSION);
+    for (from, step) in STATE_MIGRATIONS {
+        if *from >= version {
+            step(&mut state.params, &mut report);
+        }
+    }
+
+    let mut checked = BTreeMap::new();
+    for (key, value) in std::mem::take(&mut state.params) {
+        let Some(expect) = Expect::of(&key) else {
+            report.push(format!("unknown parameter '{key}' ignored"));
+            continue;
+        };
+        let value = match expect.check(&value) {
+            Ok((v, None)) => v,
+            Ok((v, Some(note))) => {
+                report.push(format!("parameter '{key}': {note}"));
+                v
+            }
+            Err(why) => {
+                let d = expect.default_value();
+                report.push(format!("parameter '{key}': {why}; default {d:?} loaded"));
+                d
+            }
+        };
+        checked.insert(key, value);
+    }
+    for (key, default) in default_state_params() {
+        if let std::collections::btree_map::Entry::Vacant(slot) = checked.entry(key) {
+            report.push(format!(
+                "parameter '{}' missing; default {default:?} loaded",
+                slot.key()
+            ));
+            slot.insert(default);
+        }
+    }
+    state.params = checked;
+    report
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn saved() -> PluginState {
+        PluginState {
+            version: "0.1.0".into(),
+            params: default_state_params(),
+            fields: [(STATE_VERSION_FIELD.to_string(), STATE_VERSION.to_string())].into(),
+        }
+    }
+
+    fn f32_of(state: &PluginState, key: &str) -> f32 {
+        match state.params[key] {
+            ParamValue::F32(x) => x,
+            ref other => panic!("{key}: {other:?}"),
+        }
+    }
+
+    fn i32_of(state: &PluginState, key: &str) -> i32 {
+        match state.params[key] {
+            ParamValue::I32(x) => x,
+            ref other => panic!("{key}: {other:?}"),
+        }
+    }
+
+    #[test]
+    fn a_current_state_loads_unchanged() {
+        let mut s = saved();
+        s.params.insert("velocity".into(), ParamValue::F32(0.75));
+        s.params.insert("seed".into(), ParamValue::I32(123_456_789));
+        s.params.insert(BYPASS_ID.into(), ParamValue::Bool(true));
+        let report = check_state(&mut s);
+        assert!(report.is_empty(), "{report:?}");
+        assert_eq!(f32_of(&s, "velocity"), 0.75);
+        assert_eq!(i32_of(&s, "seed"), 123_456_789);
+        assert!(matches!(s.params[BYPASS_ID], ParamValue::Bool(true)));
+        assert_eq!(s.params.len(), PARAMS.len() + 2);
+    }
+
+    #[test]
+    fn a_future_version_is_rejected_with_defaults_and_a_reason() {
+        let mut s = saved();
+        s.params.insert("velocity".into(), ParamValue::F32(0.9));
+        s.fields
+            .insert(STATE_VERSION_FIELD.into(), (STATE_VERSION + 1).to_string());
+        let report = check_state(&mut s);
+        assert!(
+            report.iter().any(|l| l.contains("newer Trundle")),
+            "{report:?}"
+        );
+        assert_eq!(f32_of(&s, "velocity"), 0.5);
+        assert_eq!(s.fields[STATE_VERSION_FIELD], STATE_VERSION.to_string());
+        // The persisted field then reads as the current version.
+        let p = TrundleParams::default();
+        p.deserialize_fields(&s.fields);
+        assert_eq!(p.state_version.load(Ordering::Relaxed), STATE_VERSION);
+    }
+
+    #[test]
+    fn a_corrupt_version_field_is_rejected_with_defaults() {
+        for garbage in ["\"one\"", "-1", "1.5", "", "99999999999"] {
+            let mut s = saved();
+            s.params.insert("roughness".into(), ParamValue::F32(0.1));
+            s.fields.insert(STATE_VERSION_FIELD.into(), garbage.into());
+            let report = check_state(&mut s);
+            assert!(
+                report.iter().any(|l| l.contains("rejected")),
+                "{garbage}: {report:?}"
+            );
+            assert_eq!(f32_of(&s, "roughness"), 0.5, "{garbage}");
+        }
+        // deserialize_fields alone (state that skipped the check) never panics and records
+        // an unreadable version as 0.
+        let p = TrundleParams::default();
+        p.deserialize_fields(&[(STATE_VERSION_FIELD.to_string(), "x".to_string())].into());
+        assert_eq!(p.state_version.load(Ordering::Relaxed), 0);
+    }
+
+    #[test]
+    fn corrupt_parameters_fall_back_to_defaults_one_by_one() {
+        let mut s = saved();
+        s.params
+            .insert("velocity".into(), ParamValue::F32(f32::NAN));
+        s.params.insert("roughness".into(), ParamValue::F32(7.0));
+        s.params.insert("size".into(), ParamValue::Bool(true));
+        s.params.insert("modes".into(), ParamValue::I32(100_000));
+        s.params.insert(RUN_ID.into(), ParamValue::I32(5));
+        s.params
+            .insert(BYPASS_ID.into(), ParamValue::String("yes".into()));
+        s.params.insert("sharpness".into(), ParamValue::F32(3.0));
+        s.params.remove("decay");
+        s.params.insert("wobble".into(), ParamValue::F32(1.0));
+        s.fields.insert("editor-state".into(), "{}".into());
+        let report = check_state(&mut s);
+        for key in ["velocity", "roughness", "size", "modes", RUN_ID, BYPASS_ID] {
+            assert!(
+                report
+                    .iter()
+                    .any(|l| l.contains(&format!("'{key}'")) && l.contains("default")),
+                "{key}: {report:?}"
+            );
+        }
+        assert!(report.iter().any(|l| l.contains("'decay' missing")));
+        assert!(report
+            .iter()
+            .any(|l| l.contains("unknown parameter 'wobble'")));
+        assert!(report.iter().any(|l| l.contains("'editor-state'")));
+        assert_eq!(f32_of(&s, "velocity"), 0.5);
+        assert_eq!(f32_of(&s, "roughness"), 0.5);
+        assert_eq!(f32_of(&s, "size"), 0.4);
+        assert_eq!(i32_of(&s, "modes"), 32);
+        assert_eq!(f32_of(&s, "decay"), 1.0);
+        assert_eq!(i32_of(&s, RUN_ID), 0);
+        assert!(matches!(s.params[BYPASS_ID], ParamValue::Bool(false)));
+        // A valid value next to corrupt ones survives.
+        assert_eq!(f32_of(&s, "sharpness"), 3.0);
+        assert!(!s.params.contains_key("wobble"));
+        assert_eq!(s.fields.len(), 1);
+    }
+
+    #[test]
+    fn exact_type_changes_are_converted() {
+        let mut s = saved();
+        s.params
+            .insert("shape".into(), ParamValue::String("bar".into()));
+        s.params.insert("modes".into(), ParamValue::F32(64.0));
+        s.params.insert("gain_db".into(), ParamValue::I32(-6));
+        s.params.insert(BYPASS_ID.into(), ParamValue::I32(1));
+        let report = check_state(&mut s);
+        assert_eq!(report.len(), 4, "{report:?}");
+        assert_eq!(i32_of(&s, "shape"), 1);
+        assert_eq!(i32_of(&s, "modes"), 64);
+        assert_eq!(f32_of(&s, "gain_db"), -6.0);
+        assert!(matches!(s.params[BYPASS_ID], ParamValue::Bool(true)));
+        // Not exact: refused.
+        let mut s = saved();
+        s.params.insert("modes".into(), ParamValue::F32(64.5));
+        s.params
+            .insert("shape".into(), ParamValue::String("teapot".into()));
+        let report = check_state(&mut s);
+        assert_eq!(i32_of(&s, "modes"), 32, "{report:?}");
+        assert_eq!(i32_of(&s, "shape"), 2, "{report:?}");
+    }
+
+    #[test]
+    fn a_state_without_version_is_read_as_the_oldest_and_validated() {
+        let mut s = saved();
+        s.fields.clear();
+        s.params.insert("asymmetry".into(), ParamValue::F32(0.6));
+        let report = check_state(&mut s);
+        assert_eq!(report.len(), 1, "{report:?}");
+        assert_eq!(f32_of(&s, "asymmetry"), 0.6);
+    }
+
+    #[test]
+    fn the_state_round_trips_through_json_and_the_check() {
+        // What nice-plug writes for a default instance passes the check untouched.
+        let p = TrundleParams::default();
+        let mut s = saved();
+        s.fields = p.serialize_fields();
+        let json = serde_json::to_string(&s).unwrap();
+        let mut back: PluginState = serde_json::from_str(&json).unwrap();
+        assert!(check_state(&mut back).is_empty());
+        assert_eq!(back.params.len(), p.param_map().len());
     }
 }

@@ -1,0 +1,637 @@
+//! # Trundle cross-crate tests: a CLAP host
+//!
+//! The support code for `tests/clap_host.rs`: a small CLAP host built on `clack-host` that
+//! loads the **built bundle** (`target/bundled/Trundle.clap`) and drives it the way a DAW
+//! does — entry, factory, one plugin instance per track, host callbacks serviced on the main
+//! thread, audio processed on a separate audio thread, parameters, automation events,
+//! transport, state save/load.
+//!
+//! * [`bundle`] finds the bundle and (re)builds it with `cargo xtask bundle trundle
+//!   --release` when it is missing or older than the plugin's sources.
+//! * [`Host`] / [`Instance`] are the host: [`Instance::render`] processes a list of
+//!   [`Block`]s (any sizes, parameter events at sample offsets, a transport per block) and
+//!   returns both output channels.
+//!
+//! The host fills every output buffer with NaN before each `process` call, so a sample the
+//! plugin does not write shows up as a non-finite output: [`Instance::render`] fails on it.
+
+pub mod bundle;
+
+use clack_extensions::audio_ports::{
+    AudioPortInfoBuffer, AudioPortRescanFlags, HostAudioPorts, HostAudioPortsImpl, PluginAudioPorts,
+};
+use clack_extensions::params::{
+    HostParams, HostParamsImplMainThread, HostParamsImplShared, ParamClearFlags, ParamInfoBuffer,
+    ParamInfoFlags, ParamRescanFlags, PluginParams,
+};
+use clack_extensions::state::{HostState, HostStateImpl, PluginState};
+use clack_extensions::thread_check::{HostThreadCheck, HostThreadCheckImpl};
+use clack_host::events::event_types::{ParamValueEvent, TransportEvent, TransportFlags};
+use clack_host::events::EventFlags;
+use clack_host::prelude::*;
+use clack_host::utils::{BeatTime, SecondsTime};
+use std::cell::Cell;
+use std::ffi::CString;
+use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
+use std::sync::OnceLock;
+use std::thread::ThreadId;
+
+thread_local! {
+    /// Set on the threads [`Instance::render`] processes audio on.
+    static IS_AUDIO_THREAD: Cell<bool> = const { Cell::new(false) };
+}
+
+/// The host's handler types (`clack_host::host::HostHandlers`).
+pub struct Host;
+
+/// Thread-safe host state: requests from the plugin and the plugin's extensions.
+pub struct Shared {
+    main_thread: ThreadId,
+    callback_requested: AtomicBool,
+    restart_requested: AtomicBool,
+    flush_requested: AtomicBool,
+    params: OnceLock<Option<PluginParams>>,
+    state: OnceLock<Option<PluginState>>,
+    audio_ports: OnceLock<Option<PluginAudioPorts>>,
+}
+
+impl<'a> SharedHandler<'a> for Shared {
+    fn initializing(&self, instance: InitializingPluginHandle<'a>) {
+        let _ = self.params.set(instance.get_extension());
+        let _ = self.state.set(instance.get_extension());
+        let _ = self.audio_ports.set(instance.get_extension());
+    }
+
+    fn request_restart(&self) {
+        self.restart_requested.store(true, Ordering::SeqCst);
+    }
+
+    fn request_process(&self) {}
+
+    fn request_callback(&self) {
+        self.callback_requested.store(true, Ordering::SeqCst);
+    }
+}
+
+impl HostThreadCheckImpl for Shared {
+    fn is_main_thread(&self) -> bool {
+        std::thread::current().id() == self.main_thread
+    }
+
+    fn is_audio_thread(&self) -> bool {
+        IS_AUDIO_THREAD.with(Cell::get)
+    }
+}
+
+impl HostParamsImplShared for Shared {
+    fn request_flush(&self) {
+        self.flush_requested.store(true, Ordering::SeqCst);
+    }
+}
+
+/// Main-thread host state: what the plugin told the host.
+#[derive(Default)]
+pub struct MainThread {
+    /// `params.rescan` calls (e.g. after a state load).
+    pub rescans: AtomicU32,
+    /// `state.mark_dirty` calls.
+    pub dirty_marks: AtomicU32,
+    /// Set when `is_main_thread` was false inside a main-thread callback.
+    pub wrong_thread: AtomicBool,
+    main_thread: Option<ThreadId>,
+}
+
+impl MainThread {
+    fn check_thread(&self) {
+        if Some(std::thread::current().id()) != self.main_thread {
+            self.wrong_thread.store(true, Ordering::SeqCst);
+        }
+    }
+}
+
+impl MainThreadHandler<'_> for MainThread {}
+
+impl HostParamsImplMainThread for MainThread {
+    fn rescan(&self, _flags: ParamRescanFlags) {
+        self.check_thread();
+        self.rescans.fetch_add(1, Ordering::SeqCst);
+    }
+
+    fn clear(&self, _param_id: ClapId, _flags: ParamClearFlags) {
+        self.check_thread();
+    }
+}
+
+impl HostStateImpl for MainThread {
+    fn mark_dirty(&self) {
+        self.check_thread();
+        self.dirty_marks.fetch_add(1, Ordering::SeqCst);
+    }
+}
+
+impl HostAudioPortsImpl for MainThread {
+    fn is_rescan_flag_supported(&self, _flag: AudioPortRescanFlags) -> bool {
+        false
+    }
+
+    fn rescan(&self, _flags: AudioPortRescanFlags) {
+        self.check_thread();
+    }
+}
+
+impl HostHandlers for Host {
+    type Shared<'a> = Shared;
+    type MainThread<'a> = MainThread;
+    type AudioProcessor<'a> = ();
+
+    fn declare_extensions(builder: &mut HostExtensions<Self>, _shared: &Self::Shared<'_>) {
+        builder
+            .register::<HostParams>()
+            .register::<HostState>()
+            .register::<HostAudioPorts>()
+            .register::<HostThreadCheck>();
+    }
+}
+
+/// One parameter as the host sees it (`clap_param_info`).
+#[derive(Clone, Debug)]
+pub struct ParamDesc {
+    /// CLAP parameter ID.
+    pub id: ClapId,
+    /// Display name.
+    pub name: String,
+    /// Module path (group).
+    pub module: String,
+    /// Smallest CLAP value.
+    pub min: f64,
+    /// Largest CLAP value.
+    pub max: f64,
+    /// Default CLAP value.
+    pub default: f64,
+    /// CLAP flags.
+    pub flags: ParamInfoFlags,
+}
+
+/// The host's transport for one block.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Transport {
+    /// No transport information (`process.transport == NULL`): a free-running host.
+    None,
+    /// A transport that is playing.
+    Playing,
+    /// A transport that is stopped.
+    Stopped,
+}
+
+/// One `process` call.
+#[derive(Clone, Debug)]
+pub struct Block {
+    /// Frames in the block.
+    pub len: usize,
+    /// Parameter value events: (offset in the block, CLAP ID, CLAP value), sorted by offset.
+    pub events: Vec<(u32, ClapId, f64)>,
+    /// The transport passed with the block.
+    pub transport: Transport,
+}
+
+/// What went wrong in the host.
+#[derive(Debug)]
+pub struct HostError(pub String);
+
+impl std::fmt::Display for HostError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for HostError {}
+
+fn err(e: impl std::fmt::Display) -> HostError {
+    HostError(e.to_string())
+}
+
+/// The plugin's CLAP ID.
+pub const PLUGIN_ID: &str = "org.trundle.trundle";
+
+/// nice-plug's CLAP parameter ID for a stable string ID: a Rabin fingerprint of the string
+/// with the top bit cleared (`nice_plug::wrapper::util::hash_param_id`). A DAW stores this
+/// number in its automation lanes, so it must stay a pure function of the stable key.
+pub fn clap_param_id(key: &str) -> u32 {
+    let mut hash: u32 = 0;
+    for b in key.bytes() {
+        hash = hash.wrapping_mul(31).wrapping_add(u32::from(b));
+    }
+    hash & !(1 << 31)
+}
+
+/// A loaded bundle (the CLAP entry).
+pub struct Bundle {
+    entry: PluginEntry,
+}
+
+impl Bundle {
+    /// Load the bundle at `path` (a `.clap` file on Linux/Windows, a bundle on macOS).
+    pub fn load(path: &std::path::Path) -> Result<Self, HostError> {
+        // SAFETY: loading a library runs its initializers; this is the plugin under test,
+        // built from this workspace.
+        let entry = unsafe { PluginEntry::load(path) }
+            .map_err(|e| err(format!("loading {}: {e}", path.display())))?;
+        Ok(Self { entry })
+    }
+
+    /// The IDs of the plugins the factory lists.
+    pub fn plugin_ids(&self) -> Vec<String> {
+        let Some(factory) = self.entry.get_plugin_factory() else {
+            return Vec::new();
+        };
+        factory
+            .plugin_descriptors()
+            .filter_map(|d| d.id().map(|id| id.to_string_lossy().into_owned()))
+            .collect()
+    }
+
+    /// A new Trundle instance (created and initialized on the calling thread, which is then
+    /// its main thread).
+    pub fn instantiate(&self) -> Result<Instance, HostError> {
+        let host_info = HostInfo::new(
+            "Trundle test host",
+            "Trundle",
+            "https://example.invalid",
+            "0.1.0",
+        )
+        .map_err(err)?;
+        let id = CString::new(PLUGIN_ID).map_err(err)?;
+        let main_thread = std::thread::current().id();
+        let instance = PluginInstance::<Host>::new(
+            |_| Shared {
+                main_thread,
+                callback_requested: AtomicBool::new(false),
+                restart_requested: AtomicBool::new(false),
+                flush_requested: AtomicBool::new(false),
+                params: OnceLock::new(),
+                state: OnceLock::new(),
+                audio_ports: OnceLock::new(),
+            },
+            |_| MainThread {
+                main_thread: Some(main_thread),
+                ..MainThread::default()
+            },
+            &self.entry,
+            &id,
+            &host_info,
+        )
+        .map_err(|e| err(format!("instantiating {PLUGIN_ID}: {e}")))?;
+        Ok(Instance {
+            instance,
+            processor: None,
+            sample_rate: 0.0,
+            max_frames: 0,
+            steady_time: 0,
+            song_samples: 0,
+            out: [Vec::new(), Vec::new()],
+        })
+    }
+}
+
+/// One plugin instance, as a DAW track holds it.
+pub struct Instance {
+    instance: PluginInstance<Host>,
+    processor: Option<PluginAudioProcessor<Host>>,
+    sample_rate: f64,
+    max_frames: usize,
+    steady_time: u64,
+    song_samples: u64,
+    out: [Vec<f32>; 2],
+}
+
+impl Instance {
+    fn params_ext(&self) -> Result<PluginParams, HostError> {
+        self.instance
+            .access_shared_handler(|s| s.params.get().copied().flatten())
+            .ok_or_else(|| err("the plugin has no params extension"))
+    }
+
+    fn state_ext(&self) -> Result<PluginState, HostError> {
+        self.instance
+            .access_shared_handler(|s| s.state.get().copied().flatten())
+            .ok_or_else(|| err("the plugin has no state extension"))
+    }
+
+    /// Run the plugin's main-thread callback if it asked for one (a DAW's event loop).
+    pub fn pump_main_thread(&mut self) {
+        let requested = self
+            .instance
+            .access_shared_handler(|s| s.callback_requested.swap(false, Ordering::SeqCst));
+        if requested {
+            self.instance.call_on_main_thread_callback();
+        }
+    }
+
+    /// How many times the plugin asked the host to rescan parameter values.
+    pub fn rescans(&mut self) -> u32 {
+        self.instance
+            .access_handler(|h| h.rescans.load(Ordering::SeqCst))
+    }
+
+    /// True if any main-thread callback ran on another thread.
+    pub fn main_thread_violations(&mut self) -> bool {
+        self.instance
+            .access_handler(|h| h.wrong_thread.load(Ordering::SeqCst))
+    }
+
+    /// True if the plugin requested a restart (deactivate + activate).
+    pub fn restart_requested(&self) -> bool {
+        self.instance
+            .access_shared_handler(|s| s.restart_requested.load(Ordering::SeqCst))
+    }
+
+    /// The audio ports: (inputs, outputs), each a list of (name, channel count, is main).
+    #[allow(clippy::type_complexity)]
+    pub fn audio_ports(
+        &mut self,
+    ) -> Result<(Vec<(String, u32, bool)>, Vec<(String, u32, bool)>), HostError> {
+        let ext = self
+            .instance
+            .access_shared_handler(|s| s.audio_ports.get().copied().flatten())
+            .ok_or_else(|| err("the plugin has no audio-ports extension"))?;
+        let handle = self.instance.plugin_handle();
+        let list = |is_input: bool| {
+            let mut buffer = AudioPortInfoBuffer::new();
+            (0..ext.count(&handle, is_input))
+                .filter_map(|i| {
+                    ext.get(&handle, i, is_input, &mut buffer).map(|p| {
+                        (
+                            String::from_utf8_lossy(p.name).into_owned(),
+                            p.channel_count,
+                            p.flags
+                                .contains(clack_extensions::audio_ports::AudioPortFlags::IS_MAIN),
+                        )
+                    })
+                })
+                .collect::<Vec<_>>()
+        };
+        let inputs = list(true);
+        let outputs = list(false);
+        Ok((inputs, outputs))
+    }
+
+    /// Every parameter's info, in the plugin's order.
+    pub fn params(&mut self) -> Result<Vec<ParamDesc>, HostError> {
+        let ext = self.params_ext()?;
+        let handle = self.instance.plugin_handle();
+        let mut buffer = ParamInfoBuffer::new();
+        let count = ext.count(&handle);
+        let mut out = Vec::with_capacity(count as usize);
+        for i in 0..count {
+            let info = ext
+                .get_info(&handle, i, &mut buffer)
+                .ok_or_else(|| err(format!("no info for parameter index {i}")))?;
+            out.push(ParamDesc {
+                id: info.id,
+                name: String::from_utf8_lossy(info.name).into_owned(),
+                module: String::from_utf8_lossy(info.module).into_owned(),
+                min: info.min_value,
+                max: info.max_value,
+                default: info.default_value,
+                flags: info.flags,
+            });
+        }
+        Ok(out)
+    }
+
+    /// A parameter's current CLAP value.
+    pub fn param_value(&mut self, id: ClapId) -> Result<f64, HostError> {
+        let ext = self.params_ext()?;
+        ext.get_value(&self.instance.plugin_handle(), id)
+            .ok_or_else(|| err(format!("no value for parameter {id:?}")))
+    }
+
+    /// The plugin's text for a CLAP value.
+    pub fn value_text(&mut self, id: ClapId, value: f64) -> Result<String, HostError> {
+        let ext = self.params_ext()?;
+        let mut buf = [0u8; 256];
+        let text = ext
+            .value_to_text(&self.instance.plugin_handle(), id, value, &mut buf)
+            .map_err(|_| err(format!("no text for parameter {id:?} = {value}")))?;
+        Ok(String::from_utf8_lossy(text).into_owned())
+    }
+
+    /// The CLAP value for text typed by a user.
+    pub fn text_value(&mut self, id: ClapId, text: &str) -> Result<f64, HostError> {
+        let ext = self.params_ext()?;
+        let c = CString::new(text).map_err(err)?;
+        ext.text_to_value(&self.instance.plugin_handle(), id, &c)
+            .ok_or_else(|| err(format!("parameter {id:?} refused the text {text:?}")))
+    }
+
+    /// Save the state through the state extension.
+    pub fn save_state(&mut self) -> Result<Vec<u8>, HostError> {
+        let ext = self.state_ext()?;
+        let mut bytes = Vec::new();
+        ext.save(&self.instance.plugin_handle(), &mut bytes)
+            .map_err(|e| err(format!("saving state: {e:?}")))?;
+        Ok(bytes)
+    }
+
+    /// Load a state through the state extension, then service the main-thread callbacks the
+    /// plugin requests (as a DAW's event loop would).
+    pub fn load_state(&mut self, bytes: &[u8]) -> Result<(), HostError> {
+        let ext = self.state_ext()?;
+        let mut reader = bytes;
+        let result = ext
+            .load(&self.instance.plugin_handle(), &mut reader)
+            .map_err(|e| err(format!("loading state: {e:?}")));
+        self.pump_main_thread();
+        result
+    }
+
+    /// Activate at `sample_rate` with blocks of 1 to `max_frames` frames and start
+    /// processing (the plugin's `reset` runs).
+    pub fn activate(&mut self, sample_rate: f64, max_frames: usize) -> Result<(), HostError> {
+        if self.processor.is_some() {
+            return Err(err("already active"));
+        }
+        let config = PluginAudioConfiguration {
+            sample_rate,
+            min_frames_count: 1,
+            max_frames_count: u32::try_from(max_frames).map_err(err)?,
+        };
+        let stopped = self
+            .instance
+            .activate(|_, _| (), config)
+            .map_err(|e| err(format!("activating at {sample_rate} Hz: {e}")))?;
+        let mut processor: PluginAudioProcessor<Host> = stopped.into();
+        processor
+            .start_processing()
+            .map_err(|e| err(format!("start_processing: {e}")))?;
+        self.processor = Some(processor);
+        self.sample_rate = sample_rate;
+        self.max_frames = max_frames;
+        self.out = [vec![0.0; max_frames], vec![0.0; max_frames]];
+        self.song_samples = 0;
+        Ok(())
+    }
+
+    /// Stop processing and deactivate.
+    pub fn deactivate(&mut self) -> Result<(), HostError> {
+        let mut processor = self.processor.take().ok_or_else(|| err("not active"))?;
+        processor
+            .stop_processing()
+            .map_err(|e| err(format!("stop_processing: {e}")))?;
+        self.instance.deactivate(processor.into_stopped());
+        self.pump_main_thread();
+        Ok(())
+    }
+
+    /// Stop and start processing again: the plugin resets (a DAW does this when it
+    /// re-enables a track or restarts its engine). The song position restarts at 0.
+    pub fn restart_processing(&mut self) -> Result<(), HostError> {
+        let processor = self.processor.as_mut().ok_or_else(|| err("not active"))?;
+        processor
+            .stop_processing()
+            .map_err(|e| err(format!("stop_processing: {e}")))?;
+        processor
+            .start_processing()
+            .map_err(|e| err(format!("start_processing: {e}")))?;
+        self.song_samples = 0;
+        Ok(())
+    }
+
+    fn transport_event(&self, transport: Transport) -> Option<TransportEvent> {
+        let playing = match transport {
+            Transport::None => return None,
+            Transport::Playing => true,
+            Transport::Stopped => false,
+        };
+        let tempo = 120.0;
+        let seconds = self.song_samples as f64 / self.sample_rate;
+        let beats = seconds * tempo / 60.0;
+        let mut flags = TransportFlags::HAS_TEMPO
+            | TransportFlags::HAS_BEATS_TIMELINE
+            | TransportFlags::HAS_SECONDS_TIMELINE
+            | TransportFlags::HAS_TIME_SIGNATURE;
+        if playing {
+            flags |= TransportFlags::IS_PLAYING;
+        }
+        let bar = (beats / 4.0).floor();
+        Some(TransportEvent {
+            header: EventHeader::new_core(0, EventFlags::empty()),
+            flags,
+            song_pos_beats: BeatTime::from_float(beats),
+            song_pos_seconds: SecondsTime::from_float(seconds),
+            tempo,
+            tempo_inc: 0.0,
+            loop_start_beats: BeatTime::from_int(0),
+            loop_end_beats: BeatTime::from_int(0),
+            loop_start_seconds: SecondsTime::from_int(0),
+            loop_end_seconds: SecondsTime::from_int(0),
+            bar_start: BeatTime::from_float(bar * 4.0),
+            bar_number: bar as i32,
+            time_signature_numerator: 4,
+            time_signature_denominator: 4,
+        })
+    }
+
+    /// Process `blocks` on an audio thread while this (main) thread services the plugin's
+    /// callbacks, and return both output channels. Fails if `process` fails or any output
+    /// sample is not finite (outputs are NaN-filled before each call, so an unwritten sample
+    /// fails too).
+    pub fn render(&mut self, blocks: &[Block]) -> Result<[Vec<f32>; 2], HostError> {
+        if self.processor.is_none() {
+            return Err(err("render: not active"));
+        }
+        let total: usize = blocks.iter().map(|b| b.len).sum();
+        let mut result = [Vec::with_capacity(total), Vec::with_capacity(total)];
+        // Host-side preparation (allocation) happens here, not on the audio thread.
+        let mut prepared = Vec::with_capacity(blocks.len());
+        for b in blocks {
+            if b.len == 0 || b.len > self.max_frames {
+                return Err(err(format!(
+                    "block of {} frames (max {})",
+                    b.len, self.max_frames
+                )));
+            }
+            let mut events = EventBuffer::with_capacity(b.events.len());
+            for &(time, id, value) in &b.events {
+                if time as usize >= b.len {
+                    return Err(err(format!("event at {time} in a block of {}", b.len)));
+                }
+                events.push(&ParamValueEvent::new(time, id, Pckn::match_all(), value));
+            }
+            prepared.push((b.len, events, self.transport_event(b.transport)));
+            self.song_samples += b.len as u64;
+        }
+
+        let processor = self.processor.as_mut().expect("checked above");
+        let out = &mut self.out;
+        let steady_time = &mut self.steady_time;
+        let result_ref = &mut result;
+        let instance = &mut self.instance;
+        std::thread::scope(|scope| -> Result<(), HostError> {
+            let audio = scope.spawn(move || -> Result<(), HostError> {
+                IS_AUDIO_THREAD.with(|f| f.set(true));
+                let started = processor
+                    .as_started_mut()
+                    .map_err(|e| err(format!("not processing: {e}")))?;
+                let mut ports = AudioPorts::with_capacity(2, 1);
+                let mut out_events = EventBuffer::with_capacity(64);
+                for (i, (len, events, transport)) in prepared.iter().enumerate() {
+                    let len = *len;
+                    let [l, r] = &mut *out;
+                    l[..len].fill(f32::NAN);
+                    r[..len].fill(f32::NAN);
+                    let mut outputs = ports.with_output_buffers([AudioPortBuffer {
+                        latency: 0,
+                        channels: AudioPortBufferType::f32_output_only(
+                            [&mut l[..len], &mut r[..len]].into_iter(),
+                        ),
+                    }]);
+                    out_events.clear();
+                    started
+                        .process(
+                            &InputAudioBuffers::empty(),
+                            &mut outputs,
+                            &events.as_input(),
+                            &mut out_events.as_output(),
+                            Some(*steady_time),
+                            transport.as_ref(),
+                        )
+                        .map_err(|e| err(format!("process (block {i}): {e}")))?;
+                    *steady_time += len as u64;
+                    result_ref[0].extend_from_slice(&l[..len]);
+                    result_ref[1].extend_from_slice(&r[..len]);
+                }
+                Ok(())
+            });
+            // The main thread: service the plugin's callback requests while audio runs.
+            while !audio.is_finished() {
+                let requested = instance
+                    .access_shared_handler(|s| s.callback_requested.swap(false, Ordering::SeqCst));
+                if requested {
+                    instance.call_on_main_thread_callback();
+                }
+                std::thread::sleep(std::time::Duration::from_millis(1));
+            }
+            audio.join().map_err(|_| err("the audio thread panicked"))?
+        })?;
+        self.pump_main_thread();
+
+        for (c, ch) in result.iter().enumerate() {
+            if let Some(i) = ch.iter().position(|x| !x.is_finite()) {
+                return Err(err(format!(
+                    "channel {c}, sample {i}: {} (not written or not finite)",
+                    ch[i]
+                )));
+            }
+        }
+        Ok(result)
+    }
+}
+
+impl Drop for Instance {
+    fn drop(&mut self) {
+        if self.processor.is_some() {
+            let _ = self.deactivate();
+        }
+    }
+}
