@@ -71,6 +71,11 @@ impl Lowpass {
         self.ic2 = 0.0;
     }
 
+    /// True when the filter holds no state (its output for silence is silence).
+    pub fn is_silent(&self) -> bool {
+        self.ic1 == 0.0 && self.ic2 == 0.0
+    }
+
     /// Set the cutoff; capped at 0.45·f_s, floored at 10 Hz.
     pub fn set_cutoff(&mut self, cutoff_hz: f64, sample_rate_hz: f64) {
         let fc = cutoff_hz.clamp(10.0, 0.45 * sample_rate_hz);

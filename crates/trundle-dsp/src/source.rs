@@ -381,6 +381,16 @@ impl Source {
         }
         self.train.read(out);
 
+        if v0 == 0.0 && v1 == 0.0 && self.lp.is_silent() {
+            // At rest (loudness L(0) = 0) with a quiet low-pass: the force is silence. Only
+            // time and the AM phase move on; nothing else costs anything.
+            out.fill(0.0);
+            self.am.apply(out, (0.0, 0.0), (0.0, 0.0));
+            self.next_center -= n as f64;
+            self.origin += n as f64;
+            return;
+        }
+
         // Loudness L(V), interpolated per sample.
         let (l0, l1) = (loudness(v0) as f32, loudness(v1) as f32);
         if l0 == l1 {
