@@ -26,8 +26,11 @@ use clack_extensions::params::{
 };
 use clack_extensions::state::{HostState, HostStateImpl, PluginState};
 use clack_extensions::thread_check::{HostThreadCheck, HostThreadCheckImpl};
-use clack_host::events::event_types::{ParamValueEvent, TransportEvent, TransportFlags};
+use clack_host::events::event_types::{
+    NoteOffEvent, NoteOnEvent, ParamValueEvent, TransportEvent, TransportFlags,
+};
 use clack_host::events::EventFlags;
+use clack_host::events::Match;
 use clack_host::prelude::*;
 use clack_host::utils::{BeatTime, SecondsTime};
 use std::cell::Cell;
@@ -192,6 +195,8 @@ pub struct Block {
     pub events: Vec<(u32, ClapId, f64)>,
     /// The transport passed with the block.
     pub transport: Transport,
+    /// Note events: (offset in the block, key, `Some(velocity)` = note on, `None` = off).
+    pub notes: Vec<(u32, u8, Option<f64>)>,
 }
 
 /// What went wrong in the host.
@@ -558,6 +563,18 @@ impl Instance {
                 }
                 events.push(&ParamValueEvent::new(time, id, Pckn::match_all(), value));
             }
+            for &(time, key, vel) in &b.notes {
+                if time as usize >= b.len {
+                    return Err(err(format!("note at {time} in a block of {}", b.len)));
+                }
+                let pckn = Pckn::new(0u16, 0u16, u16::from(key), Match::All);
+                match vel {
+                    Some(v) => events.push(&NoteOnEvent::new(time, pckn, v)),
+                    None => events.push(&NoteOffEvent::new(time, pckn, 0.0)),
+                }
+            }
+            // CLAP wants input events in time order.
+            events.sort();
             prepared.push((b.len, events, self.transport_event(b.transport)));
             self.song_samples += b.len as u64;
         }

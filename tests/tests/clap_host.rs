@@ -99,6 +99,7 @@ fn blocks(
             len,
             events: ev,
             transport,
+            notes: Vec::new(),
         });
         start += len;
     }
@@ -724,6 +725,7 @@ fn corrupt_and_future_states_are_refused_or_repaired() {
             len: 64,
             events: vec![(0, id("velocity"), vel), (0, id("roughness"), rough)],
             transport: Transport::Playing,
+            notes: Vec::new(),
         }],
     );
     let json = state_json(&src.save_state().unwrap());
@@ -774,4 +776,62 @@ fn corrupt_and_future_states_are_refused_or_repaired() {
         &plain_blocks(&mut rng, 24_000, Transport::Playing),
     );
     assert!(rms(&out) > LEVEL_FLOOR_RMS);
+}
+
+/// MIDI notes start extra balls on the shared object, sample-accurately and whether or not
+/// the transport plays: with the transport stopped the plugin is silent until a note on at
+/// sample 3000 (nothing before it; sound within a chunk and one impact interval), the note
+/// rolls a ball, and after its note off the ball stops and the object rings out.
+#[test]
+fn midi_notes_start_and_stop_balls_on_a_stopped_transport() {
+    let lib = load_bundle();
+    let mut p = new_instance(&lib);
+    p.activate(48_000.0, 512).unwrap();
+    let stopped = |len: usize, notes: Vec<(u32, u8, Option<f64>)>| Block {
+        len,
+        events: Vec::new(),
+        transport: Transport::Stopped,
+        notes,
+    };
+    // Let the stopped main ball settle into silence first.
+    let mut blocks: Vec<Block> = (0..40).map(|_| stopped(512, Vec::new())).collect();
+    blocks.push(stopped(512, Vec::new()));
+    blocks.push(stopped(512, Vec::new()));
+    let silent = render(&mut p, &blocks);
+    assert!(silent[silent.len() - 1024..].iter().all(|x| *x == 0.0));
+    // Note on at 3000 samples into the next second, note off one second later.
+    let mut blocks = Vec::new();
+    let mut t = 0usize;
+    while t < 3 * 48_000 {
+        let mut notes = Vec::new();
+        for (at, n) in [(3000usize, Some(0.8)), (3000 + 48_000, None)] {
+            if at >= t && at < t + 500 {
+                notes.push(((at - t) as u32, 60u8, n));
+            }
+        }
+        blocks.push(stopped(500, notes));
+        t += 500;
+    }
+    let out = render(&mut p, &blocks);
+    assert!(
+        out[..3000].iter().all(|x| *x == 0.0),
+        "sound before the note"
+    );
+    let onset = out.iter().position(|x| *x != 0.0).expect("the note sounds");
+    // The ball starts at the next 64-sample chunk and its first impact comes one impact
+    // interval later (Table I at ρ 0.5: mean 4.75 ms, under 15 ms with overwhelming
+    // probability), like a ball set rolling.
+    assert!(
+        onset >= 3000 && onset < 3000 + CHUNK + 720,
+        "onset at {onset}"
+    );
+    let held = rms(&out[10_000..50_000]);
+    assert!(held > 1e-3, "a held note rolls a ball: RMS {held}");
+    // Two seconds after the note off the ball has stopped and the wooden object has rung
+    // out: 60 dB under the held note (its modes decay in well under a second).
+    let tail = rms(&out[out.len() - 4800..]);
+    assert!(
+        tail < 1e-3 * held,
+        "the ball did not stop: tail RMS {tail} vs held {held}"
+    );
 }

@@ -31,6 +31,11 @@
 //!   samples.
 //! * **Bypass** fades the output out over 10 ms and back in, never clicking; fully bypassed,
 //!   the voice is paused (no CPU) and resumes where it was.
+//! * **MIDI notes** start extra balls on the same object (`trundle_dsp::balls`): pitch →
+//!   ball size (C2 = the largest, S = 1; C7 = the smallest, S = 0.1), note velocity → ball
+//!   speed; note off rolls the ball to a halt; up to 16 at once (the oldest is reused).
+//!   Notes are applied at their exact sample position (the block is split there) and play
+//!   whether or not the transport runs — a keyboard is live.
 //! * **State**: see [`params`] — older states are migrated, newer or corrupt ones rejected
 //!   (defaults, logged reason), every value validated before it is applied.
 
@@ -136,6 +141,7 @@ impl Plugin for Trundle {
         ..AudioIOLayout::const_default()
     }];
     const SAMPLE_ACCURATE_AUTOMATION: bool = true;
+    const MIDI_INPUT: MidiConfig = MidiConfig::Basic;
 
     type SysExMessage = ();
     type BackgroundTask = ();
@@ -219,7 +225,17 @@ impl Plugin for Trundle {
 
         let bypass_target = if self.params.bypass.value() { 0.0 } else { 1.0 };
         let editor_open = self.params.editor_state.is_open();
-        let idle = (!rolling && was_silent) || (bypass_target == 0.0 && self.bypass_gain == 0.0);
+        let mut next_event = context.next_event();
+        let bypassed = bypass_target == 0.0 && self.bypass_gain == 0.0;
+        if bypassed {
+            // Notes arriving while fully bypassed are dropped, as a bypassed synth does.
+            while next_event.is_some() {
+                next_event = context.next_event();
+            }
+        }
+        let stopped_quiet =
+            !rolling && was_silent && next_event.is_none() && voice.active_balls() == 0;
+        let idle = stopped_quiet || bypassed;
         if idle {
             // Nothing to hear: stopped and silent, or fully bypassed. The voice is not run.
             for ch in buffer.as_slice() {
@@ -241,7 +257,24 @@ impl Plugin for Trundle {
         let step = 1.0 / (BYPASS_FADE_S * self.sample_rate).max(1.0);
         let mut done = 0;
         while done < n {
-            let len = (n - done).min(self.mono.len());
+            // Notes due now start or stop balls; the block is split at the next one.
+            while let Some(ev) = next_event {
+                if ev.timing() as usize > done {
+                    break;
+                }
+                match ev {
+                    NoteEvent::NoteOn { key, velocity, .. } => {
+                        voice.note_on(key.number_or_middle_c(), f64::from(velocity))
+                    }
+                    NoteEvent::NoteOff { key, .. } | NoteEvent::Choke { key, .. } => {
+                        voice.note_off(key.number_or_middle_c())
+                    }
+                    _ => {}
+                }
+                next_event = context.next_event();
+            }
+            let until = next_event.map_or(n, |ev| (ev.timing() as usize).clamp(done + 1, n));
+            let len = (until - done).min(self.mono.len());
             let mono = &mut self.mono[..len];
             voice.process(mono);
             if self.bypass_gain != 1.0 || bypass_target != 1.0 {
