@@ -822,7 +822,7 @@ fn midi_notes_start_and_stop_balls_on_a_stopped_transport() {
     // interval later (Table I at ρ 0.5: mean 4.75 ms, under 15 ms with overwhelming
     // probability), like a ball set rolling.
     assert!(
-        onset >= 3000 && onset < 3000 + CHUNK + 720,
+        (3000..3000 + CHUNK + 720).contains(&onset),
         "onset at {onset}"
     );
     let held = rms(&out[10_000..50_000]);
