@@ -592,8 +592,9 @@ fn single_mode(
 /// Largest τ·f_s for which the f32 state can follow its pole: the per-sample decrement
 /// 1/(τ·f_s) must be at least 2⁻²³, two units of the state's own relative rounding (2⁻²⁴),
 /// or the rounding of c·re − s·im, not the pole, sets the decay. Measured: 60 s at 96 kHz
-/// (τ·f_s = 5.8·10⁶) follows its pole to 0.2 %; 60 s at 384 kHz (2.3·10⁷) decays 16 %
-/// slower than its pole and not exponentially.
+/// (τ·f_s = 5.8·10⁶) follows its pole to 0.2 %; 60 s at 384 kHz (2.3·10⁷) decays 6–16 %
+/// slower than its pole, not exponentially, by an amount that depends on the bank kernel
+/// (FMA or not).
 const F32_STATE_LIMIT: f64 = (1u64 << 23) as f64;
 
 #[test]
@@ -704,7 +705,7 @@ fn long_decays_stay_within_the_f32_pole_rounding_bound() {
 /// Measured on the rendered output (20 Hz, 1 kHz, 6.5 kHz, f_s/2 − 20 Hz), a set 60 s decay
 /// comes out at 55–59 s at 44.1 kHz, 52–58 s at 48 kHz, 44–48 s at 96 kHz (the f32 pole
 /// rounding of `phasor_coeffs`) and 27–46 s at 384 kHz (there the f32 state cannot follow
-/// the pole either, see [`F32_STATE_LIMIT`]). This is the requirement a fix (f64 state, or
+/// the pole either, see [`F32_STATE_LIMIT`]; the figure depends on the bank kernel). This is the requirement a fix (f64 state, or
 /// error-compensated poles, for modes with τ·f_s ≳ 10⁵) must meet.
 #[test]
 #[ignore = "known defect: f32 poles and state shorten 60 s decays by up to 55 %"]
