@@ -135,7 +135,7 @@ pub struct RenderArgs {
     #[arg(long, value_name = "HZ", allow_hyphen_values = true)]
     pub sample_rate: Option<String>,
 
-    /// Random seed (0–2147483647); overrides the preset's `seed`.
+    /// Random seed (0–16777215); overrides the preset's `seed`.
     #[arg(long, value_name = "N", allow_hyphen_values = true)]
     pub seed: Option<String>,
 

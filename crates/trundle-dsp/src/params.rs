@@ -264,10 +264,10 @@ pub const PARAMS: [ParamSpec; PARAM_COUNT] = [
         name: "Seed",
         unit: "",
         min: 0.0,
-        max: 2_147_483_647.0,
+        max: 16_777_215.0,
         default: 1.0,
         kind: ParamKind::Int,
-        doc: "Random seed: the same seed and parameters give the same samples",
+        doc: "Random seed: the same seed and parameters give the same samples (0 to 2^24 - 1, so a host parameter, an f32, holds every seed exactly)",
     },
     ParamSpec {
         id: ParamId::Output,

@@ -89,6 +89,13 @@ impl PulseShape {
         }
     }
 
+    /// Set ξ exactly, rebuilding the table whatever the hysteresis (for resets: a voice
+    /// reset must sound exactly like a new one). Real-time safe.
+    pub fn snap_sharpness(&mut self, sharpness: f64) {
+        self.sharpness = f64::NAN;
+        self.set_sharpness(sharpness);
+    }
+
     /// Change the evaluation method (rebuilds the table if needed).
     pub fn set_eval(&mut self, eval: PulseEval) {
         if eval != self.eval {

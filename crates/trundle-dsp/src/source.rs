@@ -207,7 +207,7 @@ impl Source {
             s.snap_to_target();
         }
         self.update_action(true);
-        self.shape.set_sharpness(self.sharpness.value());
+        self.shape.snap_sharpness(self.sharpness.value());
         self.series.reset();
         self.train.reset();
         self.am.reset();
@@ -288,7 +288,7 @@ impl Source {
         self.action_x.snap_to_target();
         self.action_y.snap_to_target();
         self.update_action(true);
-        self.shape.set_sharpness(self.sharpness.value());
+        self.shape.snap_sharpness(self.sharpness.value());
     }
 
     /// Choose how pulses are evaluated (speed/accuracy knob).
