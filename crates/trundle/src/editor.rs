@@ -754,6 +754,7 @@ fn xy_disk(ui: &mut egui::Ui, body: Rect, setter: &ParamSetter, t: &Theme, d: Di
 /// the nearer point and starts one gesture on its two parameters; a double-click resets
 /// it. The trajectory through the ball's point is drawn dashed; `enabled` false (amount 0)
 /// dims the points and says the position is off.
+#[allow(clippy::too_many_arguments)]
 fn xy_square(
     ui: &mut egui::Ui,
     rect: Rect,
@@ -762,6 +763,7 @@ fn xy_square(
     points: [(&FloatParam, &FloatParam); 2],
     trajectory: &IntParam,
     enabled: bool,
+    live_ball: Option<(f32, f32)>,
 ) {
     let s = t.scale;
     let inner = rect.shrink(9.0 * s);
@@ -933,7 +935,21 @@ fn xy_square(
         };
         p.text(Pos2::new(x, pos.y), align, text, font.clone(), text_col);
     };
-    label(ball, "ball");
+    // The ball where it is now, moving along its trajectory (published by the audio thread
+    // while the editor is open); the draggable point above is where it starts.
+    let moving = trajectory.unmodulated_plain_value() != 0;
+    if let (true, Some((x, y))) = (moving, live_ball) {
+        let now = to_screen(x.clamp(-1.0, 1.0), y.clamp(-1.0, 1.0));
+        p.circle_filled(now, r * 0.8, if enabled { ACCENT_HI } else { ball_col });
+        p.circle_stroke(
+            now,
+            r * 0.8 + 2.0 * s,
+            Stroke::new(1.0, Color32::from_white_alpha(60)),
+        );
+        label(ball, "start");
+    } else {
+        label(ball, "ball");
+    }
     label(ear, "ear");
     if !enabled {
         p.text(
@@ -1391,6 +1407,7 @@ impl TrundleEditor {
             [(bx, by), (lx, ly)],
             trajectory,
             enabled,
+            self.tap.ball(),
         );
 
         // Trajectory selector on the left, the amount knob on the right.

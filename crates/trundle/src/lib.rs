@@ -296,6 +296,8 @@ impl Plugin for Trundle {
             }
             if editor_open {
                 self.tap.push(mono);
+                let (bx, by) = voice.ball_position();
+                self.tap.set_ball(bx as f32, by as f32);
             }
             for ch in buffer.as_slice().iter_mut() {
                 ch[done..done + len].copy_from_slice(mono);

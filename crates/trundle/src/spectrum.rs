@@ -33,6 +33,10 @@ pub struct SpectrumTap {
     ring: Vec<AtomicU32>,
     write: AtomicUsize,
     sample_rate_bits: AtomicU32,
+    /// Where the ball is on the object now (normalised x, y as f32 bits), for the
+    /// position pad: it moves along its trajectory.
+    ball_x_bits: AtomicU32,
+    ball_y_bits: AtomicU32,
 }
 
 impl Default for SpectrumTap {
@@ -41,11 +45,27 @@ impl Default for SpectrumTap {
             ring: (0..RING).map(|_| AtomicU32::new(0)).collect(),
             write: AtomicUsize::new(0),
             sample_rate_bits: AtomicU32::new(48_000f32.to_bits()),
+            ball_x_bits: AtomicU32::new(f32::NAN.to_bits()),
+            ball_y_bits: AtomicU32::new(f32::NAN.to_bits()),
         }
     }
 }
 
 impl SpectrumTap {
+    /// Audio thread: publish the ball's current position (wait-free).
+    pub fn set_ball(&self, x: f32, y: f32) {
+        self.ball_x_bits.store(x.to_bits(), Ordering::Relaxed);
+        self.ball_y_bits.store(y.to_bits(), Ordering::Relaxed);
+    }
+
+    /// GUI thread: the ball's last published position, if any (x and y may come from two
+    /// neighbouring blocks: a pixel at most).
+    pub fn ball(&self) -> Option<(f32, f32)> {
+        let x = f32::from_bits(self.ball_x_bits.load(Ordering::Relaxed));
+        let y = f32::from_bits(self.ball_y_bits.load(Ordering::Relaxed));
+        (x.is_finite() && y.is_finite()).then_some((x, y))
+    }
+
     /// Record the sample rate the samples are at.
     pub fn set_sample_rate(&self, fs: f32) {
         self.sample_rate_bits.store(fs.to_bits(), Ordering::Relaxed);
@@ -281,6 +301,14 @@ fn column_hz(c: usize, f_hi_hz: f32) -> f32 {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn the_ball_position_is_handed_over_once_published() {
+        let t = SpectrumTap::default();
+        assert_eq!(t.ball(), None);
+        t.set_ball(0.25, -0.5);
+        assert_eq!(t.ball(), Some((0.25, -0.5)));
+    }
+
     use super::*;
 
     #[test]
