@@ -542,6 +542,61 @@ impl Instance {
     /// sample is not finite (outputs are NaN-filled before each call, so an unwritten sample
     /// fails too).
     pub fn render(&mut self, blocks: &[Block]) -> Result<[Vec<f32>; 2], HostError> {
+        self.render_impl(blocks, false, None).map(|(out, _)| out)
+    }
+
+    /// [`Instance::render`], but blocks of 0 frames are sent as they are (a `process` call
+    /// with `frames_count == 0`; its events must be at offset 0). CLAP hosts are not meant
+    /// to do this (`params.flush` exists for events without audio), but VST3 hosts send
+    /// 0-sample `process` calls to flush parameters, and wrappers pass them on.
+    pub fn render_allowing_empty_blocks(
+        &mut self,
+        blocks: &[Block],
+    ) -> Result<[Vec<f32>; 2], HostError> {
+        self.render_impl(blocks, true, None).map(|(out, _)| out)
+    }
+
+    /// [`Instance::render`], and while the audio thread is processing, the main thread saves
+    /// the state as soon as `after_blocks` blocks have been processed (a DAW's autosave
+    /// during playback). Returns the output, the state, and whether the audio thread was
+    /// still processing when the save returned.
+    #[allow(clippy::type_complexity)]
+    pub fn render_saving_state(
+        &mut self,
+        blocks: &[Block],
+        after_blocks: usize,
+    ) -> Result<([Vec<f32>; 2], Vec<u8>, bool), HostError> {
+        let (out, saved) = self.render_impl(blocks, false, Some(after_blocks))?;
+        let (state, overlapped) = saved.ok_or_else(|| err("the state was not saved"))?;
+        Ok((out, state, overlapped))
+    }
+
+    /// `params.flush` on the main thread while the plugin is **inactive** (how a CLAP host
+    /// sends parameter changes when it is not processing): `events` are (CLAP ID, CLAP
+    /// value). Returns the number of events the plugin sent back.
+    pub fn flush_params(&mut self, events: &[(ClapId, f64)]) -> Result<usize, HostError> {
+        let ext = self.params_ext()?;
+        let mut input = EventBuffer::with_capacity(events.len());
+        for &(id, value) in events {
+            input.push(&ParamValueEvent::new(0, id, Pckn::match_all(), value));
+        }
+        let mut output = EventBuffer::with_capacity(16);
+        let mut handle = self
+            .instance
+            .inactive_plugin_handle()
+            .ok_or_else(|| err("params.flush on the main thread needs an inactive plugin"))?;
+        ext.flush(&mut handle, &input.as_input(), &mut output.as_output());
+        self.pump_main_thread();
+        Ok(output.len() as usize)
+    }
+
+    #[allow(clippy::type_complexity)]
+    fn render_impl(
+        &mut self,
+        blocks: &[Block],
+        allow_empty: bool,
+        save_after: Option<usize>,
+    ) -> Result<([Vec<f32>; 2], Option<(Vec<u8>, bool)>), HostError> {
         if self.processor.is_none() {
             return Err(err("render: not active"));
         }
@@ -550,7 +605,7 @@ impl Instance {
         // Host-side preparation (allocation) happens here, not on the audio thread.
         let mut prepared = Vec::with_capacity(blocks.len());
         for b in blocks {
-            if b.len == 0 || b.len > self.max_frames {
+            if (b.len == 0 && !allow_empty) || b.len > self.max_frames {
                 return Err(err(format!(
                     "block of {} frames (max {})",
                     b.len, self.max_frames
@@ -558,13 +613,13 @@ impl Instance {
             }
             let mut events = EventBuffer::with_capacity(b.events.len());
             for &(time, id, value) in &b.events {
-                if time as usize >= b.len {
+                if time as usize >= b.len.max(1) {
                     return Err(err(format!("event at {time} in a block of {}", b.len)));
                 }
                 events.push(&ParamValueEvent::new(time, id, Pckn::match_all(), value));
             }
             for &(time, key, vel) in &b.notes {
-                if time as usize >= b.len {
+                if time as usize >= b.len.max(1) {
                     return Err(err(format!("note at {time} in a block of {}", b.len)));
                 }
                 let pckn = Pckn::new(0u16, 0u16, u16::from(key), Match::All);
@@ -584,6 +639,18 @@ impl Instance {
         let steady_time = &mut self.steady_time;
         let result_ref = &mut result;
         let instance = &mut self.instance;
+        let state_ext = match save_after {
+            Some(_) => Some(
+                instance
+                    .access_shared_handler(|s| s.state.get().copied().flatten())
+                    .ok_or_else(|| err("the plugin has no state extension"))?,
+            ),
+            None => None,
+        };
+        let done = std::sync::atomic::AtomicUsize::new(0);
+        let done_ref = &done;
+        let mut saved: Option<(Vec<u8>, bool)> = None;
+        let saved_ref = &mut saved;
         std::thread::scope(|scope| -> Result<(), HostError> {
             let audio = scope.spawn(move || -> Result<(), HostError> {
                 IS_AUDIO_THREAD.with(|f| f.set(true));
@@ -617,17 +684,34 @@ impl Instance {
                     *steady_time += len as u64;
                     result_ref[0].extend_from_slice(&l[..len]);
                     result_ref[1].extend_from_slice(&r[..len]);
+                    done_ref.fetch_add(1, Ordering::SeqCst);
                 }
                 Ok(())
             });
             // The main thread: service the plugin's callback requests while audio runs.
-            while !audio.is_finished() {
+            loop {
+                if let (Some(after), Some(ext), true) = (save_after, state_ext, saved_ref.is_none())
+                {
+                    if done_ref.load(Ordering::SeqCst) >= after {
+                        let mut bytes = Vec::new();
+                        ext.save(&instance.plugin_handle(), &mut bytes)
+                            .map_err(|e| err(format!("saving state while processing: {e:?}")))?;
+                        *saved_ref = Some((bytes, !audio.is_finished()));
+                    }
+                }
+                if audio.is_finished() {
+                    break;
+                }
                 let requested = instance
                     .access_shared_handler(|s| s.callback_requested.swap(false, Ordering::SeqCst));
                 if requested {
                     instance.call_on_main_thread_callback();
                 }
-                std::thread::sleep(std::time::Duration::from_millis(1));
+                if save_after.is_some() && saved_ref.is_none() {
+                    std::thread::yield_now();
+                } else {
+                    std::thread::sleep(std::time::Duration::from_millis(1));
+                }
             }
             audio.join().map_err(|_| err("the audio thread panicked"))?
         })?;
@@ -641,7 +725,7 @@ impl Instance {
                 )));
             }
         }
-        Ok(result)
+        Ok((result, saved))
     }
 }
 
