@@ -85,6 +85,9 @@ pub struct BallPool {
     started: u64,
     base_seed: u64,
     buf: [f32; CHUNK],
+    /// Number of active balls (kept in step with the slots: the idle check reads it every
+    /// chunk without touching them).
+    count: usize,
 }
 
 impl BallPool {
@@ -109,6 +112,7 @@ impl BallPool {
             started: 0,
             base_seed: 0,
             buf: [0.0; CHUNK],
+            count: 0,
         }
     }
 
@@ -124,11 +128,12 @@ impl BallPool {
         }
         self.started = 0;
         self.base_seed = base_seed;
+        self.count = 0;
     }
 
     /// Number of balls sounding.
     pub fn active(&self) -> usize {
-        self.balls.iter().filter(|b| b.active).count()
+        self.count
     }
 
     /// Start a ball for `note` with note velocity `velocity` (0…1), using the scene's
@@ -174,6 +179,7 @@ impl BallPool {
         b.source.reset();
         b.space.set_controls(pc);
         b.space.reset();
+        self.count = self.balls.iter().filter(|b| b.active).count();
     }
 
     /// Stop the ball(s) playing `note` (they roll to a halt). Real-time safe.
@@ -234,6 +240,7 @@ impl BallPool {
                 b.rest_samples += n;
                 if b.rest_samples as f64 >= RELEASE_S * self.fs {
                     b.active = false;
+                    self.count -= 1;
                 }
             }
         }

@@ -276,6 +276,21 @@ impl Object {
         self.bank.is_silent()
     }
 
+    /// True when a chunk of zero input would change nothing: rung out, no control gliding,
+    /// no recomputation due. Its output is then exact zeros.
+    pub fn is_idle(&self) -> bool {
+        self.bank.is_silent()
+            && !self.dirty
+            && ![
+                &self.material_x,
+                &self.material_y,
+                &self.log_size,
+                &self.log_decay,
+            ]
+            .iter()
+            .any(|s| s.is_moving())
+    }
+
     /// Mode·samples the bank has processed since `new` (see
     /// [`ModalBank::mode_samples`]): the object's work, for tests and benches.
     pub fn mode_samples(&self) -> u64 {

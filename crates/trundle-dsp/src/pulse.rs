@@ -211,6 +211,14 @@ impl PulseTrain {
         amp
     }
 
+    /// Drop the next `n` samples (as [`read`](Self::read) into nowhere) and advance.
+    pub fn discard(&mut self, n: usize) {
+        for _ in 0..n {
+            self.ring[self.pos] = 0.0;
+            self.pos = (self.pos + 1) & self.mask;
+        }
+    }
+
     /// Move the next `out.len()` samples into `out` (overwriting it) and advance.
     pub fn read(&mut self, out: &mut [f32]) {
         for o in out.iter_mut() {

@@ -324,6 +324,37 @@ impl Source {
         }
     }
 
+    /// True when a chunk would change nothing but time: the ball at rest, the low-pass
+    /// quiet, no control gliding, no action table due. Then [`skip_chunk`](Self::skip_chunk)
+    /// is exactly equivalent to [`process_chunk`](Self::process_chunk) (which would output
+    /// silence).
+    pub fn is_idle(&self) -> bool {
+        self.at_rest()
+            && self.lp.is_silent()
+            && !self.action_stale
+            && ![
+                &self.size,
+                &self.roughness,
+                &self.asymmetry,
+                &self.sharpness,
+                &self.action_x,
+                &self.action_y,
+            ]
+            .iter()
+            .any(|s| s.is_moving())
+    }
+
+    /// Let `n` samples of silence pass while [`is_idle`](Self::is_idle): the same state
+    /// changes as `process_chunk` at rest (time, the pending impact kept ahead, the pulse
+    /// ring drained), without producing the zeros. Real-time safe.
+    pub fn skip_chunk(&mut self, n: usize) {
+        self.action_age = self.action_age.saturating_add(1);
+        self.next_center = self.next_center.max(0.5 * T0_MAX_S * self.fs + n as f64);
+        self.train.discard(n);
+        self.next_center -= n as f64;
+        self.origin += n as f64;
+    }
+
     /// The current (smoothed) velocity V.
     pub fn velocity(&self) -> f64 {
         self.velocity.value()

@@ -245,6 +245,18 @@ impl Space {
         (self.delays.map(|d| d / self.fs), self.gains)
     }
 
+    /// True when processing a chunk would change nothing: the stage off, the ball not
+    /// travelling and no position gliding.
+    pub fn is_idle(&self) -> bool {
+        self.amount.target() == 0.0
+            && self.amount.value() == 0.0
+            && !self.active
+            && (self.velocity == 0.0 || self.trajectory == Trajectory::Manual)
+            && ![&self.pos_x, &self.pos_y, &self.listen_x, &self.listen_y]
+                .iter()
+                .any(|s| s.is_moving())
+    }
+
     /// True while the stage processes (amount above zero or fading out).
     pub fn is_active(&self) -> bool {
         self.active

@@ -408,6 +408,24 @@ impl Voice {
     fn render_chunk(&mut self) {
         let fs = self.fs;
         let (m0, target) = (self.engine_mix, self.engine_target);
+        if self.quiet
+            && m0 == 0.0
+            && target == 0.0
+            && self.balls.active() == 0
+            && self.source.is_idle()
+            && self.space.is_idle()
+            && self.object.is_idle()
+            && !self.gain.is_moving()
+            && !self.force_mix.is_moving()
+        {
+            // Idle (the silence skip below, taken before the source): nothing rolls, nothing
+            // rings, nothing glides. Only time moves on; the output is exact zeros — the same
+            // samples and the same state as the full path (`force` and `coupled` are still
+            // all zero from the last chunk: that is what `quiet` records).
+            self.source.skip_chunk(CHUNK);
+            self.sound.fill(0.0);
+            return;
+        }
         if m0 == 0.0 && target == 0.0 {
             // Signal engine only: exactly the original chain.
             self.source.process_chunk(&mut self.force);
