@@ -8,50 +8,14 @@
 //!   a moving ball's spectrum changes smoothly;
 //! * fast automation across the whole disk stays finite, click-free and allocation-free.
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
-
 use realfft::RealFftPlanner;
 use trundle_dsp::action::{ActionParams, Mixture, SCRATCH_MEAN_INTERVAL_S};
 use trundle_dsp::space::{image_sources, Space, SpaceControls, Trajectory};
 
 use trundle_dsp::{disk, ImpactRecord, ParamId, Params, Voice};
 
-// ---- a no-allocation guard for the current thread ----
-
-struct Guarded;
-
-thread_local! {
-    static ARMED: Cell<bool> = const { Cell::new(false) };
-    static COUNT: Cell<usize> = const { Cell::new(0) };
-}
-
-unsafe impl GlobalAlloc for Guarded {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        if ARMED.try_with(|a| a.get()).unwrap_or(false) {
-            let _ = COUNT.try_with(|c| c.set(c.get() + 1));
-        }
-        // SAFETY: forwarding the caller's layout to the system allocator.
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        if ARMED.try_with(|a| a.get()).unwrap_or(false) {
-            let _ = COUNT.try_with(|c| c.set(c.get() + 1));
-        }
-        // SAFETY: `ptr` was allocated by `System` with this layout.
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        if ARMED.try_with(|a| a.get()).unwrap_or(false) {
-            let _ = COUNT.try_with(|c| c.set(c.get() + 1));
-        }
-        // SAFETY: `ptr` was allocated by `System` with this layout.
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
-
-#[global_allocator]
-static ALLOC: Guarded = Guarded;
+mod common;
+use common::allocations_during;
 
 const FS: f64 = 48_000.0;
 
@@ -554,12 +518,10 @@ fn fast_full_disk_automation_is_finite_click_free_and_allocation_free() {
         let r = 0.5 + 0.5 * (2.0 * std::f64::consts::PI * time / 1.5).sin();
         p.set_clamped(ParamId::ActionX, r * a.cos());
         p.set_clamped(ParamId::ActionY, r * a.sin());
-        COUNT.with(|c| c.set(0));
-        ARMED.with(|x| x.set(true));
-        v.set_params(&p);
-        v.process(chunk);
-        ARMED.with(|x| x.set(false));
-        allocs += COUNT.with(|c| c.get());
+        allocs += allocations_during(|| {
+            v.set_params(&p);
+            v.process(chunk);
+        });
         t += chunk.len();
     }
     assert_eq!(allocs, 0, "allocations while automating");
