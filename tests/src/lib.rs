@@ -16,6 +16,7 @@
 //! plugin does not write shows up as a non-finite output: [`Instance::render`] fails on it.
 
 pub mod bundle;
+pub mod check;
 
 use clack_extensions::audio_ports::{
     AudioPortInfoBuffer, AudioPortRescanFlags, HostAudioPorts, HostAudioPortsImpl, PluginAudioPorts,

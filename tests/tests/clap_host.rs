@@ -13,10 +13,11 @@ use rand::{Rng, SeedableRng};
 use std::time::Instant;
 use trundle_dsp::params::ParamKind;
 use trundle_dsp::PARAMS;
-use trundle_tests::{bundle, clap_param_id, Block, Bundle, Instance, ParamDesc, Transport};
+use trundle_tests::{bundle, Block, Instance, ParamDesc, Transport};
 
 use clack_extensions::params::ParamInfoFlags;
 use clack_host::prelude::ClapId;
+use trundle_tests::check::{id, load_bundle, new_instance, peak, plain, rms};
 
 /// The lowest RMS any 250 ms window of a rolling ball may have in these tests: −60 dBFS.
 ///
@@ -33,32 +34,8 @@ const PEAK_LIMIT: f32 = 16.0;
 /// The voice's chunk (automation grid): 64 samples.
 const CHUNK: usize = trundle_dsp::CHUNK;
 
-fn load_bundle() -> Bundle {
-    let path = bundle::ensure_clap_bundle().unwrap_or_else(|e| panic!("no bundle: {e}"));
-    Bundle::load(&path).unwrap_or_else(|e| panic!("{e}"))
-}
-
-fn new_instance(b: &Bundle) -> Instance {
-    b.instantiate().unwrap_or_else(|e| panic!("{e}"))
-}
-
-fn id(key: &str) -> ClapId {
-    ClapId::new(clap_param_id(key))
-}
-
-fn rms(x: &[f32]) -> f64 {
-    if x.is_empty() {
-        return 0.0;
-    }
-    (x.iter().map(|v| f64::from(*v) * f64::from(*v)).sum::<f64>() / x.len() as f64).sqrt()
-}
-
 fn db(x: f64) -> f64 {
     20.0 * x.max(1e-300).log10()
-}
-
-fn peak(x: &[f32]) -> f32 {
-    x.iter().fold(0.0f32, |m, v| m.max(v.abs()))
 }
 
 /// Largest sample-to-sample step: what a click is made of.
@@ -105,12 +82,6 @@ fn blocks(
     }
     assert_eq!(next_event, events.len(), "events beyond the end");
     out
-}
-
-/// The CLAP value for a plain value, asked of the plugin as a DAW does when a user types it.
-fn plain(inst: &mut Instance, key: &str, v: f64) -> f64 {
-    inst.text_value(id(key), &format!("{v}"))
-        .unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// Random automation over `total` samples: about `per_second` events a second on the

@@ -10,43 +10,14 @@
 use clack_host::prelude::ClapId;
 use rand::rngs::SmallRng;
 use rand::{Rng, SeedableRng};
-use trundle_tests::{bundle, clap_param_id, Block, Bundle, Instance, Transport};
+use trundle_tests::check::{id, load_bundle, new_instance, peak, plain, rms};
+use trundle_tests::{Block, Bundle, Instance, Transport};
 
 /// −60 dBFS: the level a rolling ball stays far above at the defaults (about −26 dBFS; see
 /// `LEVEL_FLOOR_RMS` in `clap_host.rs`), and a muted plugin (exact zeros) far below.
 const LEVEL_FLOOR_RMS: f64 = 1.0e-3;
 /// A stable plugin stays far below this on every sample (as in `clap_host.rs`).
 const PEAK_LIMIT: f32 = 16.0;
-
-fn load_bundle() -> Bundle {
-    let path = bundle::ensure_clap_bundle().unwrap_or_else(|e| panic!("no bundle: {e}"));
-    Bundle::load(&path).unwrap_or_else(|e| panic!("{e}"))
-}
-
-fn new_instance(b: &Bundle) -> Instance {
-    b.instantiate().unwrap_or_else(|e| panic!("{e}"))
-}
-
-fn id(key: &str) -> ClapId {
-    ClapId::new(clap_param_id(key))
-}
-
-fn rms(x: &[f32]) -> f64 {
-    if x.is_empty() {
-        return 0.0;
-    }
-    (x.iter().map(|v| f64::from(*v) * f64::from(*v)).sum::<f64>() / x.len() as f64).sqrt()
-}
-
-fn peak(x: &[f32]) -> f32 {
-    x.iter().fold(0.0f32, |m, v| m.max(v.abs()))
-}
-
-/// The CLAP value for a plain value, as the plugin parses typed text.
-fn plain(inst: &mut Instance, key: &str, v: f64) -> f64 {
-    inst.text_value(id(key), &format!("{v}"))
-        .unwrap_or_else(|e| panic!("{e}"))
-}
 
 /// The first index from which `a` and `b` differ, if any.
 fn first_difference(a: &[f32], b: &[f32]) -> Option<usize> {

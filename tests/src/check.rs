@@ -1,0 +1,39 @@
+//! Helpers shared by the host tests (`tests/clap_host.rs`, `tests/strict_host.rs`).
+
+use crate::{bundle, clap_param_id, Bundle, Instance};
+use clack_host::prelude::ClapId;
+
+/// The CLAP ID nice-plug gives the parameter with stable key `key`.
+pub fn id(key: &str) -> ClapId {
+    ClapId::new(clap_param_id(key))
+}
+
+/// The built bundle, loaded (built first when missing or stale).
+pub fn load_bundle() -> Bundle {
+    let path = bundle::ensure_clap_bundle().unwrap_or_else(|e| panic!("no bundle: {e}"));
+    Bundle::load(&path).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// A new instance of the plugin.
+pub fn new_instance(b: &Bundle) -> Instance {
+    b.instantiate().unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Largest magnitude in `x`.
+pub fn peak(x: &[f32]) -> f32 {
+    x.iter().fold(0.0f32, |m, v| m.max(v.abs()))
+}
+
+/// The CLAP value for a plain value, as the plugin parses typed text.
+pub fn plain(inst: &mut Instance, key: &str, v: f64) -> f64 {
+    inst.text_value(id(key), &format!("{v}"))
+        .unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Root mean square of `x` (0 for an empty slice).
+pub fn rms(x: &[f32]) -> f64 {
+    if x.is_empty() {
+        return 0.0;
+    }
+    (x.iter().map(|v| f64::from(*v) * f64::from(*v)).sum::<f64>() / x.len() as f64).sqrt()
+}
