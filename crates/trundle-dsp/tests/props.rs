@@ -2,7 +2,8 @@
 //!
 //! Random parameter sets drawn from every row of `PARAMS` (so parameters added later are
 //! covered automatically, including every action-disk and material-disk position) × sample
-//! rates 8–384 kHz × block sizes 1–8192 × random automation jumps mid-render: the output is
+//! rates 8–384 kHz × block sizes 1–8192 × random automation jumps mid-render × up to 20
+//! extra balls started at the jump (MIDI notes, more than the pool holds): the output is
 //! always finite, bounded by the documented ceiling, and nothing panics. Failing cases are
 //! shrunk by proptest to a minimal parameter set.
 
@@ -58,12 +59,15 @@ fn any_parameters_any_rate_any_block_size_stay_finite_and_bounded() {
         ],
         prop_oneof![Just(1usize), Just(8192usize), 1usize..=8192],
         0.0f64..1.0,
+        // Extra balls (MIDI notes): up to 20 (more than the pool's 16) with random notes and
+        // velocities, started at the jump, half of them stopped at the end of the render.
+        proptest::collection::vec((0u8..128, 0.0f64..=1.0), 0..20),
     );
     let mut runner = TestRunner::new(Config {
         cases: CASES_PER_RUN,
         ..Config::default()
     });
-    let result = runner.run(&strategy, |(start, jump, fs, block, jump_at)| {
+    let result = runner.run(&strategy, |(start, jump, fs, block, jump_at, notes)| {
         let a = params_from(&start);
         let b = params_from(&jump);
         let mut v = Voice::new(fs, &a);
@@ -75,6 +79,14 @@ fn any_parameters_any_rate_any_block_size_stay_finite_and_bounded() {
             let end = (pos + block).min(n);
             if pos <= switch && switch < end {
                 v.set_params(&b);
+                for &(note, vel) in &notes {
+                    v.note_on(note, vel);
+                }
+            }
+            if end == n {
+                for &(note, _) in notes.iter().step_by(2) {
+                    v.note_off(note);
+                }
             }
             v.process(&mut out[pos..end]);
             pos = end;
@@ -86,7 +98,7 @@ fn any_parameters_any_rate_any_block_size_stay_finite_and_bounded() {
         Ok(())
     });
     println!(
-        "property cases run: {} (random parameters x sample rate x block size x automation jump)",
+        "property cases run: {} (random parameters x sample rate x block size x automation jump x extra balls)",
         CASES.load(Ordering::Relaxed)
     );
     if let Err(e) = result {
