@@ -30,7 +30,7 @@
 //! * Every `presets/*.json` of the repository is embedded at build time
 //!   ([`BUILTIN_PRESETS`]), so a plugin bundle is self-contained.
 
-use crate::params::{spec_by_key, ParamError, ParamId, ParamKind, Params, PARAMS};
+use crate::params::{spec_by_key, ParamError, ParamId, ParamKind, ParamSpec, Params, PARAMS};
 use core::fmt;
 use serde_json::{Map, Value};
 
@@ -213,20 +213,7 @@ impl Preset {
         let mut params = Params::default();
         for (key, v) in &map {
             let spec = spec_by_key(key).ok_or_else(|| ParamError::UnknownId(key.clone()))?;
-            let value = match v {
-                Value::Number(n) => {
-                    spec.validate(n.as_f64().ok_or(ParamError::NotFinite { key: spec.key })?)?
-                }
-                Value::String(s) if matches!(spec.kind, ParamKind::Enum(_)) => spec.parse(s)?,
-                other => {
-                    return Err(ParamError::Unparsable {
-                        key: spec.key,
-                        text: other.to_string(),
-                    }
-                    .into())
-                }
-            };
-            params.set(spec.id, value)?;
+            params.set(spec.id, value_from_json(spec, v)?)?;
         }
         let automation = match obj.get("automation") {
             None => Vec::new(),
@@ -262,12 +249,7 @@ impl Preset {
     pub fn to_json(&self) -> String {
         let mut params = Map::new();
         for (spec, v) in self.params.iter() {
-            let value = match spec.kind {
-                ParamKind::Enum(names) => Value::String(names[v as usize].to_string()),
-                ParamKind::Int => Value::from(v as i64),
-                ParamKind::Float { .. } => Value::from(v),
-            };
-            params.insert(spec.key.to_string(), value);
+            params.insert(spec.key.to_string(), value_to_json(spec, v));
         }
         let mut top = Map::new();
         top.insert("trundle_preset".into(), Value::from(PRESET_VERSION));
@@ -284,14 +266,7 @@ impl Preset {
                 let points = lane
                     .points
                     .iter()
-                    .map(|&(t, v)| {
-                        let value = match spec.kind {
-                            ParamKind::Enum(names) => Value::String(names[v as usize].into()),
-                            ParamKind::Int => Value::from(v as i64),
-                            ParamKind::Float { .. } => Value::from(v),
-                        };
-                        Value::Array(vec![Value::from(t), value])
-                    })
+                    .map(|&(t, v)| Value::Array(vec![Value::from(t), value_to_json(spec, v)]))
                     .collect();
                 lanes.insert(spec.key.to_string(), Value::Array(points));
             }
@@ -329,6 +304,30 @@ impl Preset {
 
 /// Most keyframes one lane may hold.
 pub const MAX_KEYFRAMES: usize = 4096;
+
+/// A parameter value from JSON: a number (validated, never clamped) or, for an enumeration,
+/// a variant name.
+fn value_from_json(spec: &ParamSpec, v: &Value) -> Result<f64, ParamError> {
+    match v {
+        Value::Number(n) => {
+            spec.validate(n.as_f64().ok_or(ParamError::NotFinite { key: spec.key })?)
+        }
+        Value::String(s) if matches!(spec.kind, ParamKind::Enum(_)) => spec.parse(s),
+        other => Err(ParamError::Unparsable {
+            key: spec.key,
+            text: other.to_string(),
+        }),
+    }
+}
+
+/// A parameter value as JSON: enumerations by name, integers as integers.
+fn value_to_json(spec: &ParamSpec, v: f64) -> Value {
+    match spec.kind {
+        ParamKind::Enum(names) => Value::String(names[v as usize].to_string()),
+        ParamKind::Int => Value::from(v as i64),
+        ParamKind::Float { .. } => Value::from(v),
+    }
+}
 
 fn parse_automation(v: &Value) -> Result<Vec<Lane>, PresetError> {
     let bad = |m: String| PresetError::Automation(m);
@@ -369,18 +368,7 @@ fn parse_automation(v: &Value) -> Result<Vec<Lane>, PresetError> {
             if points.last().is_some_and(|&(t0, _): &(f64, f64)| t < t0) {
                 return Err(bad(format!("'{key}': times must not go backwards ({t} s)")));
             }
-            let value = match &pair[1] {
-                Value::Number(n) => spec.validate(n.as_f64().unwrap_or(f64::NAN))?,
-                Value::String(s) if matches!(spec.kind, ParamKind::Enum(_)) => spec.parse(s)?,
-                other => {
-                    return Err(ParamError::Unparsable {
-                        key: spec.key,
-                        text: other.to_string(),
-                    }
-                    .into())
-                }
-            };
-            points.push((t, value));
+            points.push((t, value_from_json(spec, &pair[1])?));
         }
         lanes.push(Lane {
             id: spec.id,
