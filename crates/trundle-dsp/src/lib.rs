@@ -32,6 +32,7 @@
 //! | [`engine`] | engine choice; the controls mapped onto the physics (S → R, m_e, κ; V → v; ρ → β, relief) | TASLP §II-A, §III-B, §V-C; Rath 2003 §5 |
 //! | [`params`] | the single parameter table (IDs, ranges, units, defaults) | — |
 //! | [`analysis`] | impact extraction, ARMA(1,1) Gauss–Newton fit, residual statistics | TASLP §IV-B, §IV-E |
+//! | `fit` (feature `fit`) | modal analysis of a recorded strike (band-split ESPRIT), residual envelope | Roy & Kailath 1989; Hua & Sarkar 1990 |
 //! | [`surface`], [`physics`] | fractal surface, Rath's rolling filter, Hunt–Crossley ball (RK4) | TASLP §II-A, §III; Rath 2003 |
 //!
 //! ## Quantities and units
@@ -70,6 +71,8 @@ pub mod balls;
 pub mod dcblock;
 pub mod disk;
 pub mod engine;
+#[cfg(feature = "fit")]
+pub mod fit;
 pub mod lowpass;
 pub mod material;
 pub mod modal;
