@@ -14,6 +14,7 @@
 //! trundle calibrate -o preset.json [physical settings]    a signal preset imitating them
 //! trundle tradeoff [--json] [--plot out.png] [--seconds S]  speed vs accuracy, measured
 //! trundle bench [--json] [--quick]    what the engine costs on this machine
+//! trundle fit-object KNOCK.wav -o wood.object.json [--json]   an object from a recorded strike
 //! ```
 //!
 //! The command drives the very same engine as the plugin ([`trundle_dsp::Voice`]) with
@@ -25,7 +26,9 @@ mod analyze;
 mod atomic;
 mod bench;
 mod calibrate;
+mod decode;
 mod error;
+mod fit_cmd;
 mod level;
 mod list;
 mod physics_cmd;
@@ -76,6 +79,8 @@ enum Command {
     Tradeoff(tradeoff::TradeoffArgs),
     /// Measure what Trundle costs on this machine (ns per sample, real-time factor).
     Bench(bench::BenchArgs),
+    /// Fit an object (modes + residual envelope) to one recorded strike (WAV/FLAC/OGG).
+    FitObject(fit_cmd::FitObjectArgs),
 }
 
 /// Print to stdout; a closed pipe (`trundle params | head`) ends quietly, not in a panic.
@@ -107,6 +112,7 @@ fn main() -> ExitCode {
         Command::Calibrate(args) => calibrate::run(args).and_then(|t| emit(&t)),
         Command::Tradeoff(args) => tradeoff::run(args).and_then(|t| emit(&t)),
         Command::Bench(args) => bench::run(args).and_then(|t| emit(&t)),
+        Command::FitObject(args) => fit_cmd::run(args).and_then(|t| emit(&t)),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

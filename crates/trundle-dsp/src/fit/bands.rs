@@ -62,9 +62,10 @@ pub struct BandSignal {
     pub band: Band,
     /// Decimation factor D.
     pub decimation: usize,
-    /// Full-rate sample index (from the onset) of decimated sample 0.
+    /// Index of the first decimated sample whose filter window lies wholly inside the
+    /// signal (earlier ones are the filter's transient).
     pub start: usize,
-    /// The decimated complex samples y[m] (time start + m·D).
+    /// The decimated complex samples y[m] (time m·D from the start of the free decay).
     pub samples: Vec<Complex<f64>>,
     taps: Vec<f64>,
     sample_rate_hz: f64,
@@ -141,17 +142,18 @@ impl BandSignal {
         len |= 1;
         let taps = lowpass_taps(len, 0.5 * (pass + stop) / fs);
         let half = (len - 1) / 2;
-        let start = half;
-        if x.len() < start + half + 32 * decimation {
+        // Decimated samples from n = 0: the first ⌈h/D⌉ are the filter's transient (the
+        // window reaches before the free decay), modelled exactly by [`Self::basis`].
+        let steady = half.div_ceil(decimation);
+        if x.len() < half + 1 + (steady + 32) * decimation {
             return None;
         }
-        let count = ((x.len() - half - 1 - start) / decimation + 1).min(max_len);
-        if count < 32 {
+        let count = ((x.len() - half - 1) / decimation + 1).min(max_len + steady);
+        if count < steady + 32 {
             return None;
         }
         let w = TAU * fc / fs;
-        // Heterodyne the span once (phase from the onset), then filter at the kept samples.
-        let last = start + (count - 1) * decimation + half;
+        let last = ((count - 1) * decimation + half).min(x.len() - 1);
         let shifted: Vec<Complex<f64>> = x[..=last]
             .iter()
             .enumerate()
@@ -162,15 +164,16 @@ impl BandSignal {
             .collect();
         let samples = (0..count)
             .map(|m| {
-                let n = start + m * decimation;
-                let seg = &shifted[n - half..=n + half];
+                let n = m * decimation;
+                let j0 = half.saturating_sub(n);
                 let mut acc = Complex::new(0.0, 0.0);
-                for (h, s) in taps.iter().zip(seg) {
-                    acc += s * *h;
+                for j in j0..len {
+                    acc += shifted[n + j - half] * taps[j];
                 }
                 acc
             })
             .collect();
+        let start = steady;
         Some(Self {
             band,
             decimation,
@@ -184,6 +187,25 @@ impl BandSignal {
     /// The band's decimated sample rate f_s/D (Hz).
     pub fn rate_hz(&self) -> f64 {
         self.sample_rate_hz / self.decimation as f64
+    }
+
+    /// What a unit exponential zⁿ (n ≥ 0, zero before) becomes at decimated sample m:
+    /// z^{mD}·Σ_{j ≥ h − mD} hⱼ z^{j−h} (the full response [`Self::gain_at`] once the window
+    /// is inside the signal).
+    pub fn basis(&self, z: Complex<f64>, m: usize, full_gain: Complex<f64>) -> Complex<f64> {
+        let n = m * self.decimation;
+        let half = (self.taps.len() - 1) / 2;
+        let zn = z.powi(n as i32);
+        if n >= half {
+            return zn * full_gain;
+        }
+        let mut acc = Complex::new(0.0, 0.0);
+        let mut p = z.powi(-(n as i32));
+        for j in half - n..self.taps.len() {
+            acc += p * self.taps[j];
+            p *= z;
+        }
+        zn * acc
     }
 
     /// The centred filter's response at the full-rate baseband pole z:
@@ -238,9 +260,13 @@ mod tests {
         let zb = Complex::from_polar((-1.0 / (tau * fs)).exp(), TAU * (f - band.centre_hz()) / fs);
         let g = s.gain_at(zb);
         // Positive-frequency half of the cosine: ½e^{i0.3}; the image is > 80 dB down.
-        for (m, y) in s.samples.iter().enumerate().step_by(17) {
-            let n = (s.start + m * s.decimation) as i32;
-            let want = Complex::from_polar(0.5, 0.3) * g * zb.powi(n);
+        for (m, y) in s.samples.iter().enumerate() {
+            // The transient samples follow the exact partial-window basis; the rest G·zⁿ.
+            let want = Complex::from_polar(0.5, 0.3) * s.basis(zb, m, g);
+            if m >= s.start {
+                let n = (m * s.decimation) as i32;
+                assert!((want - Complex::from_polar(0.5, 0.3) * g * zb.powi(n)).norm() < 1e-12);
+            }
             assert!(
                 (y - want).norm() < 1e-4 * want.norm().max(1e-3),
                 "{m}: {y} vs {want}"

@@ -15,7 +15,9 @@
 //! (the approach of sub-band ESPRIT in Laroche 1993 and Badeau et al. 2006). See
 //! [`bands`] (band splitting) and [`subspace`] (ESPRIT and the order rule).
 //!
-//! A mode k is the real damped sinusoid aₖ·e^{−t/τₖ}·cos(2πfₖt + φₖ), t from the onset.
+//! A mode k is the real damped sinusoid aₖ·e^{−t/τₖ}·cos(2πfₖt + φₖ), t from the start of
+//! the free decay (the strike's peak: the attack before it is the contact force, which
+//! Trundle's action model supplies).
 
 pub mod bands;
 pub mod envelope;
@@ -29,16 +31,16 @@ use nalgebra::Complex;
 
 pub use envelope::{log_spectral_distance_db, third_octave_envelope, EnvelopeBand};
 
-/// One fitted mode: aₖ·e^{−t/τₖ}·cos(2πfₖt + φₖ), t in seconds from the onset.
+/// One fitted mode: aₖ·e^{−t/τₖ}·cos(2πfₖt + φₖ), t in seconds from the start of the free decay ([`FittedObject::onset_s`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FitMode {
     /// Frequency fₖ (Hz).
     pub freq_hz: f64,
     /// 1/e amplitude decay time τₖ (s).
     pub decay_s: f64,
-    /// Amplitude aₖ at the onset (full scale = 1).
+    /// Amplitude aₖ at t = 0 (full scale = 1).
     pub amplitude: f64,
-    /// Phase φₖ at the onset (rad).
+    /// Phase φₖ at t = 0 (rad).
     pub phase_rad: f64,
 }
 
@@ -53,9 +55,10 @@ pub struct FittedObject {
     pub envelope: Vec<EnvelopeBand>,
     /// The modal analysis covered [lo, hi) Hz.
     pub modal_range_hz: (f64, f64),
-    /// Onset time in the recording (s): t = 0 of the modes.
+    /// Start of the free decay in the recording (s): the strike's peak within 20 ms of its
+    /// onset, t = 0 of the modes (the attack before it is the contact, not the object).
     pub onset_s: f64,
-    /// Length of the fitted decay, from the onset (s).
+    /// Length of the fitted free decay (s).
     pub duration_s: f64,
     /// Residual energy relative to the signal's over the fitted decay (dB).
     pub residual_db: f64,
@@ -170,7 +173,9 @@ fn frame_db(x: &[f64], fs: f64) -> (Vec<f64>, usize) {
     (out, hop)
 }
 
-/// The checks of a strike; returns (onset sample, end sample).
+/// The checks of a strike; returns (start of the free decay, end) in samples: the start is
+/// the strike's peak within 20 ms of its onset (the contact is over), the end where the
+/// decay reaches the noise floor.
 pub fn check_strike(x: &[f64], sample_rate_hz: f64) -> Result<(usize, usize), FitError> {
     let fs = sample_rate_hz;
     if !(fs.is_finite() && (crate::MIN_SAMPLE_RATE_HZ..=crate::MAX_SAMPLE_RATE_HZ).contains(&fs)) {
@@ -251,7 +256,24 @@ pub fn check_strike(x: &[f64], sample_rate_hz: f64) -> Result<(usize, usize), Fi
     if span < MIN_SECONDS {
         return Err(FitError::TooShort { seconds: span });
     }
-    Ok((onset, end))
+    // The free decay starts at the strike's peak (the contact has ended by then): the
+    // modes are fitted, and referred, from there.
+    let attack = (0.02 * fs) as usize;
+    let free = x[onset..(onset + attack).min(end)]
+        .iter()
+        .enumerate()
+        .fold(
+            (0, 0.0f64),
+            |a, (i, v)| if v.abs() > a.1 { (i, v.abs()) } else { a },
+        )
+        .0
+        + onset;
+    if (end - free) as f64 / fs < MIN_SECONDS {
+        return Err(FitError::TooShort {
+            seconds: (end - free) as f64 / fs,
+        });
+    }
+    Ok((free, end))
 }
 
 /// Sum of modes, t from sample 0, `len` samples at `sample_rate_hz`.
@@ -324,35 +346,68 @@ fn fit_band(sig: &[f64], fs: f64, band: bands::Band) -> Vec<FitMode> {
     let Some(bs) = bands::BandSignal::new(sig, fs, band, BAND_SAMPLES) else {
         return vec![];
     };
-    let Some(fit) = subspace::esprit(&bs.samples) else {
+    let Some(fit) = subspace::esprit(&bs.samples[bs.start..]) else {
         return vec![];
     };
     let d = bs.decimation as f64;
     let fc = band.centre_hz();
-    let mut out = Vec::new();
-    for (zd, cd) in fit.poles.iter().zip(&fit.amplitudes) {
+    let start_s = (bs.start * bs.decimation) as f64 / fs;
+    // Full-rate baseband poles of the modes kept.
+    let mut poles = Vec::new();
+    for zd in &fit.poles {
         let r = zd.norm();
-        if !(r > 0.0 && r < 1.0) || !cd.norm().is_finite() {
+        if !(r > 0.0 && r < 1.0) {
             continue;
         }
-        // Full-rate baseband pole: z = z_d^{1/D} on the principal branch (|arg| < π/D
-        // covers the whole decimated band).
+        // z = z_d^{1/D} on the principal branch (|arg| < π/D covers the decimated band).
         let decay_s = -d / (fs * r.ln());
         let w_bb = zd.arg() / d; // rad per full-rate sample
         let freq_hz = fc + w_bb * fs / TAU;
-        if !(band.lo_hz..band.hi_hz).contains(&freq_hz) || decay_s < 1e-4 {
+        // A mode must still sound at the first steady sample (after the band filter's
+        // transient): one that has fallen below e⁻³ (−26 dB) by then was not observed, only
+        // extrapolated (an attack transient, not a resonance), and one shorter than a
+        // decimated sample is noise.
+        if !(band.lo_hz..band.hi_hz).contains(&freq_hz)
+            || decay_s < start_s / 3.0
+            || decay_s < d / fs
+        {
             continue;
         }
-        let z = Complex::from_polar(r.powf(1.0 / d), w_bb);
-        let g = bs.gain_at(z);
-        // y[m] = c_bb·G·z^{start + mD}: back to the onset, and ×2 for the real cosine.
-        let c_bb = cd / (g * z.powf(bs.start as f64));
-        let c = c_bb * 2.0;
+        poles.push((freq_hz, decay_s, Complex::from_polar(r.powf(1.0 / d), w_bb)));
+    }
+    // All the band's poles (kept or not) explain the band signal jointly; least squares over
+    // every decimated sample from t = 0, the filter's transient included (exact basis).
+    let all: Vec<Complex<f64>> = fit
+        .poles
+        .iter()
+        .filter(|z| z.norm() < 1.0 + 1e-9 && z.norm() > 0.0)
+        .map(|zd| Complex::from_polar(zd.norm().powf(1.0 / d), zd.arg() / d))
+        .collect();
+    let gains: Vec<Complex<f64>> = all.iter().map(|&z| bs.gain_at(z)).collect();
+    let first = (bs.start * bs.decimation / 2)
+        .div_ceil(bs.decimation)
+        .min(bs.start);
+    let rows = &bs.samples[first..];
+    let Some(c) = subspace::amplitudes_with(rows, all.len(), |m, k| {
+        bs.basis(all[k], m + first, gains[k])
+    }) else {
+        return vec![];
+    };
+    let mut out = Vec::new();
+    for (freq_hz, decay_s, z) in poles {
+        let Some(k) = all.iter().position(|&p| p == z) else {
+            continue;
+        };
+        // ×2: the band holds the positive-frequency half of the real cosine.
+        let ck = c[k] * 2.0;
+        if !ck.norm().is_finite() {
+            continue;
+        }
         out.push(FitMode {
             freq_hz,
             decay_s,
-            amplitude: c.norm(),
-            phase_rad: c.arg(),
+            amplitude: ck.norm(),
+            phase_rad: ck.arg(),
         });
     }
     out

@@ -10,9 +10,10 @@
 //! Vandermonde least-squares problem y ≈ V·c, solved through an SVD.
 //!
 //! **Model order.** The eigenvalues λᵢ of R (σᵢ²) of a noisy signal fall into K large ones
-//! and a noise floor. The floor is the median of the lower half; K counts eigenvalues more
-//! than 10 dB above it and within 100 dB of the largest (the singular-value-gap rule,
-//! made scale-free), capped at L/3.
+//! and a noise floor. The floor is the median of the lower half; the candidates are the
+//! eigenvalues more than 10 dB above it and within 100 dB of the largest (capped at L/3),
+//! and K ends at the last gap of 20 dB or more among them down to eigenvalues 60 dB under
+//! the largest (the singular-value-gap rule), or takes them all when there is no such gap.
 
 use nalgebra::{Complex, DMatrix, DVector, Schur, SymmetricEigen};
 
@@ -67,12 +68,23 @@ pub fn model_order(eigenvalues: &[f64], max_order: usize) -> usize {
     let lower = &eigenvalues[n / 2..];
     let floor = lower[lower.len() / 2].max(0.0);
     let top = eigenvalues[0];
-    eigenvalues
+    let above = eigenvalues
         .iter()
         .take(max_order.min(n / 3))
         .take_while(|&&l| l > 10.0 * floor && l > 1e-10 * top && l > 0.0)
-        .count()
+        .count();
+    // A gap of 20 dB or more to eigenvalues 60 dB under the largest ends the signal
+    // subspace: what follows is rendering or quantization noise above the floor estimate,
+    // which extra poles would only split real modes to fit. (Gaps between loud and weak
+    // modes higher up are kept: the weak modes are real.)
+    (1..above.min(n - 1))
+        .rev()
+        .find(|&i| eigenvalues[i - 1] >= GAP * eigenvalues[i] && eigenvalues[i] < 1e-6 * top)
+        .unwrap_or(above)
 }
+
+/// Eigenvalue ratio (20 dB) that marks the end of the signal subspace.
+pub const GAP: f64 = 100.0;
 
 /// Fit damped exponentials to `y` with an L-row Hankel matrix (L = N/4 capped at 160).
 /// Returns `None` for a signal too short or a failed decomposition.
@@ -141,6 +153,25 @@ pub fn amplitudes(y: &[Complex<f64>], poles: &[Complex<f64>]) -> Option<Vec<Comp
     }
     let rhs = DVector::from_column_slice(y);
     let c = v.svd(true, true).solve(&rhs, 1e-13).ok()?;
+    Some(c.iter().copied().collect())
+}
+
+/// Least-squares amplitudes c of y[m] ≈ Σₖ cₖ·basis(m, k), minimum-norm: singular values
+/// of the basis matrix under 10⁻⁸ of the largest are dropped, so that a pair of nearly equal
+/// poles cannot take huge cancelling amplitudes.
+pub fn amplitudes_with(
+    y: &[Complex<f64>],
+    k: usize,
+    basis: impl Fn(usize, usize) -> Complex<f64>,
+) -> Option<Vec<Complex<f64>>> {
+    if k == 0 {
+        return Some(vec![]);
+    }
+    let v = DMatrix::<Complex<f64>>::from_fn(y.len(), k, basis);
+    let svd = v.svd(true, true);
+    let top = svd.singular_values.iter().fold(0.0f64, |a, &s| a.max(s));
+    let rhs = DVector::from_column_slice(y);
+    let c = svd.solve(&rhs, 1e-12 * top).ok()?;
     Some(c.iter().copied().collect())
 }
 

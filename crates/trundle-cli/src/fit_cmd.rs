@@ -1,0 +1,129 @@
+//! `trundle fit-object KNOCK.wav -o wood.object.json`: fit an object to one recorded strike.
+//!
+//! ```text
+//! KNOCK.wav|flac|ogg ─► mono, full scale ±1 ─► trundle_dsp::fit::fit_strike
+//!   (checks, band-split ESPRIT, amplitudes, residual envelope) ─► object file (JSON v1)
+//! ```
+//!
+//! A recording that is not one decaying strike (silence, noise, clipped, too short, several
+//! strikes) is refused with one `error:` line and exit code 2; nothing is written.
+
+use crate::atomic::TempFile;
+use crate::decode::read_recording;
+use crate::error::{failure, input, quote, CliError};
+use crate::render::check_destination;
+use serde_json::json;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use trundle_dsp::fit::{fit_strike, json::to_json, resynthesize, FittedObject};
+
+/// Arguments of `trundle fit-object`.
+#[derive(clap::Args, Debug)]
+#[command(after_help = "\
+Examples:
+  trundle fit-object knock.wav -o wood.object.json
+  trundle fit-object cowbell.flac -o cowbell.object.json --json")]
+pub struct FitObjectArgs {
+    /// One recorded strike (WAV, FLAC or OGG/Vorbis; mono or stereo; any sample rate).
+    pub file: PathBuf,
+    /// The object file to write (JSON).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Overwrite an existing file.
+    #[arg(long)]
+    pub force: bool,
+    /// Print the summary as JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Decode and fit a recording; errors name the file.
+pub fn fit_file(path: &Path) -> Result<(FittedObject, Vec<f64>, usize), CliError> {
+    let rec = read_recording(path)?;
+    let fit = fit_strike(&rec.samples, rec.sample_rate_hz)
+        .map_err(|e| input(format!("{}: {e}", quote(&path.display().to_string()))))?;
+    Ok((fit, rec.samples, rec.channels))
+}
+
+/// Write `text` to `dest` atomically (never overwriting without `force`).
+pub fn write_text(dest: &Path, text: &str, force: bool) -> Result<(), CliError> {
+    let shown = quote(&dest.display().to_string());
+    let (tmp, mut file) = TempFile::create_beside(dest, "tmp")
+        .map_err(|e| failure(format!("cannot write beside {shown}: {e}")))?;
+    file.write_all(text.as_bytes())
+        .and_then(|()| file.sync_all())
+        .map_err(|e| failure(format!("cannot write {}: {e}", tmp.path().display())))?;
+    drop(file);
+    tmp.persist(dest, force).map_err(|e| match e {
+        crate::atomic::PersistError::Exists => input(format!(
+            "--output {shown} appeared while fitting; left untouched (use --force)"
+        )),
+        crate::atomic::PersistError::Io(e) => {
+            failure(format!("cannot move the file to {shown}: {e}"))
+        }
+    })
+}
+
+/// Run `fit-object`; returns the summary.
+pub fn run(args: &FitObjectArgs) -> Result<String, CliError> {
+    check_destination(&args.output, "--output", args.force)?;
+    let (fit, samples, channels) = fit_file(&args.file)?;
+    let source = args
+        .file
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let v = to_json(&fit, &source);
+    let text = serde_json::to_string_pretty(&v).expect("JSON values serialize") + "\n";
+    write_text(&args.output, &text, args.force)?;
+    // Log-spectral distance between the recording's decay and the modes alone.
+    let fs = fit.sample_rate_hz;
+    let a = (fit.onset_s * fs).round() as usize;
+    let b = (a + (fit.duration_s * fs).round() as usize).min(samples.len());
+    let model = resynthesize(&fit.modes, fs, b - a);
+    let lsd = trundle_dsp::fit::log_spectral_distance_db(&samples[a..b], &model, fs);
+    if args.json {
+        let s = json!({
+            "output": args.output.display().to_string(),
+            "source": source,
+            "sample_rate_hz": fs,
+            "modes": fit.modes.len(),
+            "residual_db": fit.residual_db,
+            "log_spectral_distance_db": lsd,
+            "onset_s": fit.onset_s,
+            "duration_s": fit.duration_s,
+            "channels": channels,
+        });
+        return Ok(serde_json::to_string_pretty(&s).expect("JSON values serialize") + "\n");
+    }
+    let mut out = format!(
+        "{}: {} modes ({:.0}–{:.0} Hz) over {:.3} s from {:.3} s at {} Hz{}\n\
+         the modes explain the recording to {:.1} dB (residual energy), log-spectral distance {:.1} dB\n",
+        args.output.display(),
+        fit.modes.len(),
+        fit.modal_range_hz.0,
+        fit.modal_range_hz.1,
+        fit.duration_s,
+        fit.onset_s,
+        fs,
+        if channels > 1 {
+            format!(", {channels} channels mixed down")
+        } else {
+            String::new()
+        },
+        fit.residual_db,
+        lsd
+    );
+    let mut loud: Vec<_> = fit.modes.iter().collect();
+    loud.sort_by(|a, b| {
+        (b.amplitude * b.amplitude * b.decay_s).total_cmp(&(a.amplitude * a.amplitude * a.decay_s))
+    });
+    out.push_str("strongest modes (Hz, decay s, amplitude):\n");
+    for m in loud.iter().take(8) {
+        out.push_str(&format!(
+            "  {:9.2}  {:8.4}  {:.4}\n",
+            m.freq_hz, m.decay_s, m.amplitude
+        ));
+    }
+    Ok(out)
+}
