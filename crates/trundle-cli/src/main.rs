@@ -15,6 +15,7 @@
 //! trundle tradeoff [--json] [--plot out.png] [--seconds S]  speed vs accuracy, measured
 //! trundle bench [--json] [--quick]    what the engine costs on this machine
 //! trundle fit-object KNOCK.wav -o wood.object.json [--json]   an object from a recorded strike
+//! trundle fit-roll ROLL.wav [--object F | --is-force] -o roll.json [--json]   a preset from a roll
 //! ```
 //!
 //! The command drives the very same engine as the plugin ([`trundle_dsp::Voice`]) with
@@ -29,6 +30,7 @@ mod calibrate;
 mod decode;
 mod error;
 mod fit_cmd;
+mod fit_roll;
 mod level;
 mod list;
 mod physics_cmd;
@@ -81,6 +83,8 @@ enum Command {
     Bench(bench::BenchArgs),
     /// Fit an object (modes + residual envelope) to one recorded strike (WAV/FLAC/OGG).
     FitObject(fit_cmd::FitObjectArgs),
+    /// Fit a preset (roughness, size, velocity, action) to a recorded roll, rub or scratch.
+    FitRoll(fit_roll::FitRollArgs),
 }
 
 /// Print to stdout; a closed pipe (`trundle params | head`) ends quietly, not in a panic.
@@ -113,6 +117,7 @@ fn main() -> ExitCode {
         Command::Tradeoff(args) => tradeoff::run(args).and_then(|t| emit(&t)),
         Command::Bench(args) => bench::run(args).and_then(|t| emit(&t)),
         Command::FitObject(args) => fit_cmd::run(args).and_then(|t| emit(&t)),
+        Command::FitRoll(args) => fit_roll::run(args).and_then(|t| emit(&t)),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

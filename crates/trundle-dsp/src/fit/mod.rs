@@ -23,6 +23,7 @@ pub mod bands;
 pub mod envelope;
 #[cfg(feature = "presets")]
 pub mod json;
+pub mod roll;
 pub mod subspace;
 
 use core::f64::consts::TAU;

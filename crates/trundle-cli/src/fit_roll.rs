@@ -1,0 +1,182 @@
+//! `trundle fit-roll ROLL.wav [--object FILE] [--is-force] -o roll.json`: a preset that
+//! imitates a recorded roll, rub or scratch (TASLP §IV-E on a recording; see
+//! [`trundle_dsp::fit::roll`]).
+//!
+//! ```text
+//! ROLL.wav ─► force estimate (Wiener inverse of --object's modes | LPC whitening | as is
+//!             with --is-force) ─► impacts ─► ARMA(1,1) ─► ρ, ν, m, S, V, action
+//!   ─► preset JSON (trundle_preset 1) ─► resynthesis (the signal engine, force) ─► impacts
+//!   ─► distances: KS of intervals and relative amplitudes, log-spectral distance of forces
+//! ```
+
+use crate::decode::read_recording;
+use crate::error::{input, quote, CliError};
+use crate::fit_cmd::write_text;
+use crate::render::check_destination;
+use crate::stats::{impacts_of, Series, DEFAULT_THRESHOLD};
+use serde_json::json;
+use std::path::PathBuf;
+use trundle_dsp::fit::json::from_json;
+use trundle_dsp::fit::roll::{fit_roll, lpc_whiten, wiener_inverse, Action};
+use trundle_dsp::fit::{log_spectral_distance_db, resynthesize};
+use trundle_dsp::preset::Preset;
+use trundle_dsp::{ParamId, Params, Voice};
+
+/// Arguments of `trundle fit-roll`.
+#[derive(clap::Args, Debug)]
+#[command(after_help = "\
+Examples:
+  trundle render --force-only --set roughness=0.7 --seconds 20 -o force.wav
+  trundle fit-roll force.wav --is-force -o roll.json
+  trundle fit-roll roll.wav --object wood.object.json -o roll.json")]
+pub struct FitRollArgs {
+    /// A recorded roll, rub or scratch (WAV, FLAC or OGG/Vorbis).
+    pub file: PathBuf,
+    /// The preset file to write (JSON).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// An object file (`fit-object`) to inverse-filter the recording by.
+    #[arg(long)]
+    pub object: Option<PathBuf>,
+    /// The file is already a force (a `render --force-only` output, a contact sensor).
+    #[arg(long, conflicts_with = "object")]
+    pub is_force: bool,
+    /// Overwrite an existing file.
+    #[arg(long)]
+    pub force: bool,
+    /// Print the report as JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Run `fit-roll`; returns the report.
+pub fn run(args: &FitRollArgs) -> Result<String, CliError> {
+    check_destination(&args.output, "--output", args.force)?;
+    let shown = quote(&args.file.display().to_string());
+    let rec = read_recording(&args.file)?;
+    let fs = rec.sample_rate_hz;
+    if !(8_000.0..=384_000.0).contains(&fs) {
+        return Err(input(format!(
+            "{shown}: sample rate {fs} Hz is outside 8000 … 384000 Hz"
+        )));
+    }
+    let (force, how) = if args.is_force {
+        (
+            rec.samples.clone(),
+            "the file itself (--is-force)".to_string(),
+        )
+    } else if let Some(obj) = &args.object {
+        let oshown = quote(&obj.display().to_string());
+        let text = std::fs::read_to_string(obj)
+            .map_err(|e| input(format!("cannot read {oshown}: {e}")))?;
+        let v: serde_json::Value = serde_json::from_str(&text)
+            .map_err(|e| input(format!("{oshown} is not JSON ({e})")))?;
+        let (o, _) = from_json(&v).map_err(|e| input(format!("{oshown}: {e}")))?;
+        let longest = o.modes.iter().fold(0.0f64, |a, m| a.max(m.decay_s));
+        let h = resynthesize(&o.modes, fs, ((5.0 * longest).min(4.0) * fs) as usize + 1);
+        (
+            wiener_inverse(&rec.samples, &h),
+            format!("Wiener inverse of {} modes from {oshown}", o.modes.len()),
+        )
+    } else {
+        (
+            lpc_whiten(&rec.samples, 32),
+            "blind: linear-prediction residual (order 32)".to_string(),
+        )
+    };
+    let fit =
+        fit_roll(&force, fs, DEFAULT_THRESHOLD).map_err(|e| input(format!("{shown}: {e}")))?;
+    let mut p = Params::default();
+    let (ax, ay) = fit.action.disk_xy();
+    for (id, v) in [
+        (ParamId::Roughness, fit.roughness),
+        (ParamId::Size, fit.size),
+        (ParamId::Velocity, fit.velocity.max(0.01)),
+        (ParamId::Asymmetry, fit.am_depth),
+        (ParamId::ActionX, ax),
+        (ParamId::ActionY, ay),
+    ] {
+        p.set_clamped(id, v);
+    }
+    let source = args
+        .file
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let preset = Preset {
+        name: format!("Fitted from {source}"),
+        description: format!(
+            "trundle fit-roll of {source}: force by {how}; {:?}, {} impacts",
+            fit.action,
+            fit.impacts.len()
+        ),
+        params: p,
+        automation: Vec::new(),
+        balls: Vec::new(),
+    };
+    // Resynthesis: the preset's force, as long as the recording, analysed the same way.
+    let seconds = force.len() as f64 / fs;
+    let mut q = p;
+    q.set_clamped(ParamId::Output, 1.0);
+    let mut v = Voice::new(fs, &q);
+    let mut synth = vec![0f32; force.len()];
+    for b in synth.chunks_mut(4096) {
+        v.process(b);
+    }
+    let rec_series = Series::new(fit.impacts.clone(), seconds, "the recording")?;
+    let syn_series = Series::new(
+        impacts_of(&synth, fs, DEFAULT_THRESHOLD),
+        seconds,
+        "the resynthesis",
+    )?;
+    let ks = rec_series.distance(&syn_series);
+    let synth64: Vec<f64> = synth.iter().map(|&x| f64::from(x)).collect();
+    let lsd = log_spectral_distance_db(&force, &synth64, fs);
+    write_text(&args.output, &(preset.to_json() + "\n"), args.force)?;
+    let action = match fit.action {
+        Action::Rub => "rub",
+        Action::Scratch => "scratch",
+        Action::Roll => "roll",
+    };
+    if args.json {
+        let r = json!({
+            "output": args.output.display().to_string(),
+            "force_estimate": how,
+            "impacts": fit.impacts.len(),
+            "impact_rate_hz": fit.impact_rate_hz,
+            "action": action,
+            "roughness": fit.roughness,
+            "roughness_parts": fit.roughness_parts,
+            "am_rate_hz": fit.am_rate_hz,
+            "asymmetry": fit.am_depth,
+            "size": fit.size,
+            "velocity": fit.velocity,
+            "mean_interval_ms": fit.series.mean_interval_s * 1e3,
+            "interval_a1": fit.series.interval_fit.a1,
+            "interval_b1": fit.series.interval_fit.b1,
+            "amplitude_a1": fit.series.amplitude_fit.a1,
+            "amplitude_b1": fit.series.amplitude_fit.b1,
+            "ks_distance": ks,
+            "log_spectral_distance_db": lsd,
+        });
+        return Ok(serde_json::to_string_pretty(&r).expect("JSON values serialize") + "\n");
+    }
+    Ok(format!(
+        "{}: {action}, {} impacts ({:.0}/s); force by {how}\n\
+         roughness {:.3} (from μ_Δ {:.3}, b₁Δ {:.3}, b₁A {:.3}), AM {:.3} Hz depth {:.2}, size {:.3}, velocity {:.3}\n\
+         recording vs resynthesis: KS {:.3}, log-spectral distance {:.1} dB\n",
+        args.output.display(),
+        fit.impacts.len(),
+        fit.impact_rate_hz,
+        fit.roughness,
+        fit.roughness_parts[0],
+        fit.roughness_parts[1],
+        fit.roughness_parts[2],
+        fit.am_rate_hz,
+        fit.am_depth,
+        fit.size,
+        fit.velocity,
+        ks,
+        lsd
+    ))
+}
