@@ -41,6 +41,11 @@ pub struct FitRollArgs {
     /// The file is already a force (a `render --force-only` output, a contact sensor).
     #[arg(long, conflicts_with = "object")]
     pub is_force: bool,
+    /// Impacts are local maxima of the force estimate above this fraction of its peak
+    /// (default 0.01 with --is-force, as `analyze`; 0.1 for an estimate, whose residual
+    /// ringing would otherwise count as impacts).
+    #[arg(long)]
+    pub threshold: Option<f64>,
     /// Overwrite an existing file.
     #[arg(long)]
     pub force: bool,
@@ -84,8 +89,17 @@ pub fn run(args: &FitRollArgs) -> Result<String, CliError> {
             "blind: linear-prediction residual (order 32)".to_string(),
         )
     };
-    let fit =
-        fit_roll(&force, fs, DEFAULT_THRESHOLD).map_err(|e| input(format!("{shown}: {e}")))?;
+    let threshold = args.threshold.unwrap_or(if args.is_force {
+        DEFAULT_THRESHOLD
+    } else {
+        0.1
+    });
+    if !(threshold.is_finite() && (0.0..1.0).contains(&threshold)) {
+        return Err(input(format!(
+            "--threshold must be a fraction of the peak in [0, 1), got {threshold}"
+        )));
+    }
+    let fit = fit_roll(&force, fs, threshold).map_err(|e| input(format!("{shown}: {e}")))?;
     let mut p = Params::default();
     let (ax, ay) = fit.action.disk_xy();
     for (id, v) in [

@@ -89,7 +89,8 @@ pub enum FitError {
         /// Where (s).
         at_s: f64,
     },
-    /// The level never falls [`MIN_DECAY_DB`] below its maximum: noise, not a strike.
+    /// The level at the end is not [`MIN_DECAY_DB`] below the maximum: noise or a sustained
+    /// sound (a roll), not a strike.
     NoDecay {
         /// Largest fall after the maximum (dB).
         fall_db: f64,
@@ -123,7 +124,7 @@ impl fmt::Display for FitError {
             ),
             FitError::NoDecay { fall_db } => write!(
                 f,
-                "not a decaying strike: the level falls only {fall_db:.1} dB after its maximum (needs {MIN_DECAY_DB} dB; noise?)"
+                "not a decaying strike: the level ends only {fall_db:.1} dB under its maximum (needs {MIN_DECAY_DB} dB; noise, or a sustained sound?)"
             ),
             FitError::SeveralStrikes { at_s, rise_db } => write!(
                 f,
@@ -226,10 +227,14 @@ pub fn check_strike(x: &[f64], sample_rate_hz: f64) -> Result<(usize, usize), Fi
             (0, f64::NEG_INFINITY),
             |a, (i, &v)| if v > a.1 { (i, v) } else { a },
         );
-    let lmin = db[fmax..].iter().fold(f64::INFINITY, |a, &v| a.min(v));
-    if lmax - lmin < MIN_DECAY_DB {
+    // The fall is measured to the end of the recording (the median level of its last
+    // tenth): a strike dies away and stays down; a roll or noise dips and comes back.
+    let mut tail: Vec<f64> = db[fmax + (db.len() - fmax) * 9 / 10..].to_vec();
+    tail.sort_by(f64::total_cmp);
+    let floor = tail[tail.len() / 2];
+    if lmax - floor < MIN_DECAY_DB {
         return Err(FitError::NoDecay {
-            fall_db: lmax - lmin,
+            fall_db: lmax - floor,
         });
     }
     let window = ((0.1 * fs) as usize / hop).max(1);
@@ -244,12 +249,8 @@ pub fn check_strike(x: &[f64], sample_rate_hz: f64) -> Result<(usize, usize), Fi
             });
         }
     }
-    // End: where the level reaches the noise floor (the median of the last tenth of the
-    // frames: noise when the strike has died out, the last of its decay when the file cuts
-    // it) + 6 dB, or 90 dB under the maximum.
-    let mut tail: Vec<f64> = db[fmax + (db.len() - fmax) * 9 / 10..].to_vec();
-    tail.sort_by(f64::total_cmp);
-    let floor = tail[tail.len() / 2];
+    // End: where the level reaches that floor (noise when the strike has died out, the
+    // last of its decay when the file cuts it) + 6 dB, or 90 dB under the maximum.
     let stop = (floor + 6.0).max(lmax - 90.0);
     let end_frame = (fmax..db.len()).find(|&i| db[i] < stop).unwrap_or(db.len());
     let end = (onset + end_frame * hop + hop).min(x.len());
