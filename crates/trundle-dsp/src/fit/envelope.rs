@@ -47,7 +47,7 @@ fn stft(x: &[f64], sample_rate_hz: f64) -> (Vec<Vec<f64>>, usize, usize) {
 }
 
 /// The third-octave envelope of `residual` (energies relative to `signal`'s), bands from
-/// 20 Hz to min(20 kHz, 0.45·f_s).
+/// 20 Hz to min(20 kHz, 0.45·f_s) that hold at least one bin of the ≈ 21 ms spectra.
 pub fn third_octave_envelope(
     residual: &[f64],
     signal: &[f64],
@@ -73,18 +73,16 @@ pub fn third_octave_envelope(
             (lo / bin_hz).ceil() as usize,
             ((hi / bin_hz).floor() as usize).min(len / 2),
         );
-        // Hann window, hop ½: Σ over frames of Σ|X|² = (3/8)·len/hop·… ≈ 1.5·N·Σx² / len·…;
-        // normalise by Parseval so that a full-band sum equals the time-domain energy.
+        if b1 < b0 {
+            // Narrower than one bin of the short-time spectrum: not resolved, not reported.
+            continue;
+        }
+        // Parseval with a Hann window (Σw² = 3/8·len per frame, two frames overlap each
+        // sample): Σ_frames Σ_one-sided |X|² ≈ ½·len·¾·Σx², so ×2/(¾·len) gives energy.
         let norm = 2.0 / (len as f64 * 0.375 * (len / hop) as f64);
         let e: Vec<f64> = frames
             .iter()
-            .map(|f| {
-                if b1 < b0 {
-                    0.0
-                } else {
-                    f[b0..=b1].iter().sum::<f64>() * norm
-                }
-            })
+            .map(|f| f[b0..=b1].iter().sum::<f64>() * norm)
             .collect();
         let energy: f64 = e.iter().sum();
         let level_db = 10.0 * (energy / total).max(1e-30).log10();
