@@ -46,6 +46,10 @@ pub struct FitRollArgs {
     /// ringing would otherwise count as impacts).
     #[arg(long)]
     pub threshold: Option<f64>,
+    /// For an estimated force: keep only the largest peak within ± this many ms (its
+    /// ringing is not impacts). Ignored with --is-force.
+    #[arg(long, default_value_t = 1.0)]
+    pub min_gap_ms: f64,
     /// Overwrite an existing file.
     #[arg(long)]
     pub force: bool,
@@ -99,7 +103,12 @@ pub fn run(args: &FitRollArgs) -> Result<String, CliError> {
             "--threshold must be a fraction of the peak in [0, 1), got {threshold}"
         )));
     }
-    let fit = fit_roll(&force, fs, threshold).map_err(|e| input(format!("{shown}: {e}")))?;
+    let gap_s = if args.is_force {
+        0.0
+    } else {
+        args.min_gap_ms * 1e-3
+    };
+    let fit = fit_roll(&force, fs, threshold, gap_s).map_err(|e| input(format!("{shown}: {e}")))?;
     let mut p = Params::default();
     let (ax, ay) = fit.action.disk_xy();
     for (id, v) in [

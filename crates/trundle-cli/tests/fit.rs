@@ -362,3 +362,72 @@ fn rolls_rendered_by_trundle_are_fitted_back() {
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     }
 }
+
+#[test]
+fn a_roll_on_a_known_object_is_fitted_through_its_inverse() {
+    use trundle_dsp::fit::{json::to_json, FitMode, FittedObject};
+    use trundle_dsp::object::{Object, ObjectControls};
+    let d = scratch("roll-object");
+    // The default scene's object (Params defaults = ObjectControls defaults), as an object
+    // file: each mode's impulse response is g·e^{−t/τ}·sin(2πft) = g·cos(2πft − π/2).
+    let fs = 48_000.0;
+    let obj = Object::new(fs, ObjectControls::default());
+    let modes: Vec<FitMode> = obj
+        .modes()
+        .iter()
+        .filter(|m| m.gain > 0.0)
+        .map(|m| FitMode {
+            freq_hz: m.freq_hz,
+            decay_s: m.decay_s,
+            amplitude: m.gain,
+            phase_rad: -std::f64::consts::FRAC_PI_2,
+        })
+        .collect();
+    let file = FittedObject {
+        sample_rate_hz: fs,
+        modes,
+        envelope: vec![],
+        modal_range_hz: (50.0, 20_000.0),
+        onset_s: 0.0,
+        duration_s: 1.0,
+        residual_db: -100.0,
+        peak: 1.0,
+    };
+    let object_path = d.join("default.object.json");
+    fs::write(
+        &object_path,
+        serde_json::to_string(&to_json(&file, "Object")).unwrap(),
+    )
+    .unwrap();
+    let wav = d.join("roll.wav");
+    let o = run(&[
+        "render",
+        "--seconds",
+        "20",
+        "--set",
+        "roughness=0.7",
+        "--set",
+        "asymmetry=0.5",
+        "-o",
+        wav.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let out = d.join("roll.json");
+    let o = run(&[
+        "fit-roll",
+        wav.to_str().unwrap(),
+        "--object",
+        object_path.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let r: Value = serde_json::from_slice(&o.stdout).unwrap();
+    println!("through the object's inverse: {r}");
+    let am_set = 3.0 * 0.5 / 0.4;
+    assert!(
+        (r["am_rate_hz"].as_f64().unwrap() / am_set - 1.0).abs() < 0.02,
+        "{r}"
+    );
+}

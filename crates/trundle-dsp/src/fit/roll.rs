@@ -204,16 +204,51 @@ pub fn roughness_from(series: &SeriesAnalysis) -> (f64, [f64; 3]) {
     (rho.clamp(0.0, 1.0), parts)
 }
 
+/// Keep only impacts that are the largest within ±`gap_s` (an estimated force rings after
+/// each pulse; its ripples are not impacts).
+pub fn suppress_ripples(impacts: &[Impact], gap_s: f64) -> Vec<Impact> {
+    impacts
+        .iter()
+        .enumerate()
+        .filter(|(i, imp)| {
+            let mut ok = true;
+            for j in (0..*i).rev() {
+                if imp.time_s - impacts[j].time_s > gap_s {
+                    break;
+                }
+                ok &= impacts[j].amplitude < imp.amplitude;
+            }
+            for other in &impacts[i + 1..] {
+                if other.time_s - imp.time_s > gap_s {
+                    break;
+                }
+                ok &= other.amplitude <= imp.amplitude;
+            }
+            ok
+        })
+        .map(|(_, imp)| *imp)
+        .collect()
+}
+
 /// Fit a force estimate (see the module docs). `threshold` is the impact threshold as a
-/// fraction of the peak.
+/// fraction of the peak; `min_gap_s` > 0 keeps only the largest impact within ±min_gap_s
+/// ([`suppress_ripples`]; 0 for a clean force).
 ///
 /// # Allocation
 /// Allocates freely (offline analysis).
-pub fn fit_roll(force: &[f64], sample_rate_hz: f64, threshold: f64) -> Result<RollFit, RollError> {
+pub fn fit_roll(
+    force: &[f64],
+    sample_rate_hz: f64,
+    threshold: f64,
+    min_gap_s: f64,
+) -> Result<RollFit, RollError> {
     let fs = sample_rate_hz;
     let f32s: Vec<f32> = force.iter().map(|&v| v as f32).collect();
     let peak = force.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-    let impacts = extract_impacts(&f32s, fs, threshold * peak);
+    let mut impacts = extract_impacts(&f32s, fs, threshold * peak);
+    if min_gap_s > 0.0 {
+        impacts = suppress_ripples(&impacts, min_gap_s);
+    }
     if impacts.len() < 50 {
         return Err(RollError::TooFewImpacts(impacts.len()));
     }
