@@ -1,5 +1,5 @@
 //! `trundle analyze FILE.wav|FILE.csv [--json]`: the impact statistics of a force signal
-//! or an impact list (TASLP §IV-B1, §IV-E; DESIGN §8).
+//! or an impact list (TASLP §IV-B1, §IV-E; docs/MODEL.md §8).
 //!
 //! ```text
 //! FILE.wav ─► samples (first channel, ±1 full scale) ─► local maxima > threshold·peak,

@@ -14,7 +14,7 @@
 //!
 //! plus the bank and the voice at 8/32/128 modes, the real-time factor (seconds of audio
 //! per second of computing) and the voices one core sustains. The anchors printed beside
-//! them are DESIGN.md's ("Speed and accuracy"): the Sound Design Toolkit's rolling model at
+//! them are docs/MODEL.md's ("Speed and accuracy"): the Sound Design Toolkit's rolling model at
 //! 457/1155/4397 ns per sample for 8/32/128 modes, a hand-vectorized f32 phasor bank at
 //! 0.20–0.38 ns per mode·sample.
 

@@ -1,4 +1,4 @@
-//! `trundle calibrate`: a signal-model preset that imitates a physical scene (DESIGN §8).
+//! `trundle calibrate`: a signal-model preset that imitates a physical scene (docs/MODEL.md §8).
 //!
 //! ```text
 //! physical settings ─► physics engine ─► force ─► impacts ─► target statistics

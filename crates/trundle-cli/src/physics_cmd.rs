@@ -36,7 +36,7 @@ pub struct PhysArgs {
     /// Fractal exponent β of the surface spectrum ∝ ω^β, −1.5 (smooth) … 0 (rough).
     #[arg(long, default_value_t = -0.5, allow_hyphen_values = true)]
     pub beta: f64,
-    /// Surface relief, peak to valley (µm); the paper's 0.1 µm gives no impacts (DESIGN §7).
+    /// Surface relief, peak to valley (µm); the paper's 0.1 µm gives no impacts (docs/MODEL.md §7).
     #[arg(long, default_value_t = 10.0)]
     pub relief_um: f64,
     /// Ball radius (mm); the mass is a steel sphere's.

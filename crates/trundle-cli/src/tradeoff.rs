@@ -1,4 +1,4 @@
-//! `trundle tradeoff`: the speed/accuracy trade, measured (DESIGN "Speed and accuracy").
+//! `trundle tradeoff`: the speed/accuracy trade, measured (docs/MODEL.md "Speed and accuracy").
 //!
 //! One fixed scene (the default parameters: a ball on a wooden plate, V 0.5, ρ 0.5, 48 kHz)
 //! rendered at every setting of the knobs that trade speed for accuracy — the engine

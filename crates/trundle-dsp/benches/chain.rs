@@ -1,4 +1,4 @@
-//! Cost of the full chain per output sample (DESIGN "Speed and accuracy").
+//! Cost of the full chain per output sample (docs/MODEL.md "Speed and accuracy").
 //!
 //! * `voice/{8,32,128}`: a [`Voice`] with default parameters (rolling, plate, wood-ish
 //!   material, 48 kHz) and `modes` = 8, 32 or 128, rendering blocks of 512 samples — series,

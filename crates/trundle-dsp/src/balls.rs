@@ -4,7 +4,7 @@
 //! Balls rolling on the same table excite the same resonator, so every ball here has its own
 //! action chain — its own [`Source`] (impact series, pulses, AM, low-pass; its own seed) and
 //! its own [`Space`] (its position on the object) — and their forces are **summed before the
-//! one shared object** (DESIGN §6: the object is linear, so one modal bank serves them all;
+//! one shared object** (docs/MODEL.md §6: the object is linear, so one modal bank serves them all;
 //! this is what makes a 16-ball scene cheap). Everything else (roughness, asymmetry,
 //! sharpness, the action disk, the comb and trajectory settings) is the scene's.
 //!

@@ -6,7 +6,7 @@
 //! shared ([`crate::voice`]). Switching crossfades the two forces linearly over
 //! [`ENGINE_CROSSFADE_S`] (both engines run during the fade), so it never clicks.
 //!
-//! ## The mapping (DESIGN §7; TASLP §II-A, §III-B; Rath 2003)
+//! ## The mapping (docs/MODEL.md §7; TASLP §II-A, §III-B; Rath 2003)
 //!
 //! | control | physics | law | at the default |
 //! |---|---|---|---|
@@ -24,7 +24,7 @@
 //!   κ ∝ R^−5/2 and the contact duration, ∝ κ^−2/5 (Johnson §11), grows **linearly** with R —
 //!   exactly as the signal model's t₀ = 7.88·10⁻⁴·S·A^−0.29 s grows with S (TASLP eq 16).
 //!   Anchored at the paper's reference ball (R = 1 cm, κ₂ = 5·10⁹).
-//! - **Relief.** DESIGN §7: with the paper's 0.1 µm relief the ball never leaves the surface.
+//! - **Relief.** docs/MODEL.md §7: with the paper's 0.1 µm relief the ball never leaves the surface.
 //!   5–20 µm is the range where every β gives separate micro-impacts with mean intervals in
 //!   Table I's range and impact speeds near Fig. 7's (the sweep in
 //!   [`crate::physics::PhysicsSettings::default`]); 10 µm (the physics default) is ρ = 0.5.

@@ -15,7 +15,7 @@
 //! Modes beyond the requested count keep ringing with zero input until they have decayed,
 //! so lowering the mode count never clicks.
 //!
-//! ## Level of detail (DESIGN "Speed and accuracy")
+//! ## Level of detail (docs/MODEL.md "Speed and accuracy")
 //! * **Budget**: the [`Quality`] caps the number of modes ([`Quality::max_modes`]).
 //! * **Culling**: a mode whose level aₖ²·τₖ (its share of the output power under a
 //!   broadband excitation, the quantity the normalization above sums) lies more than

@@ -52,7 +52,7 @@
 //! part of the output: it acts through the motion of the ball, as gravity does.
 //!
 //! ## The relief, and the default settings
-//! DESIGN §7 warns that with the paper's 0.1 µm surface the static compression under
+//! docs/MODEL.md §7 warns that with the paper's 0.1 µm surface the static compression under
 //! gravity, (g/κ)^{2/3} ≈ 1.6 µm at κ = 5·10⁹, exceeds the relief: the ball never leaves
 //! the surface. The defaults use a **10 µm** peak-to-valley relief (σ = 1.25 µm), see
 //! [`PhysicsSettings::default`] for the measurements behind that choice.
@@ -118,7 +118,7 @@ pub struct PhysicsSettings {
     /// §II-B, §V-C.
     pub beta: f64,
     /// Peak-to-valley relief of the surface (m). The paper states 0.1 µm (TASLP §III-B), which
-    /// gives no impacts at all (DESIGN §7); see [`Default`] for the value used and why.
+    /// gives no impacts at all (docs/MODEL.md §7); see [`Default`] for the value used and why.
     pub relief_m: f64,
     /// Spatial resolution Δ of the surface (m), 0.1 mm in the paper (TASLP §III).
     pub resolution_m: f64,
@@ -219,7 +219,7 @@ impl PhysicsSettings {
     }
 
     /// Static compression of the contact under gravity, x_s = (g/κ)^{1/α} (m): compare
-    /// with the relief (DESIGN §7).
+    /// with the relief (docs/MODEL.md §7).
     pub fn static_compression_m(&self) -> f64 {
         let s = self.sanitized();
         (s.gravity_m_s2 / s.kappa).powf(1.0 / ALPHA)

@@ -236,7 +236,7 @@ mod tests {
 
     #[test]
     fn output_std_matches_the_design_note() {
-        // DESIGN §1: about 0.18 for A and 3 ms for Δ at ρ = 1 (the exact values: 0.142 and
+        // docs/MODEL.md §1: about 0.18 for A and 3 ms for Δ at ρ = 1 (the exact values: 0.142 and
         // 3.08 ms; the note's 0.18 is the ρ = 0 amplitude value, 0.176).
         let r = SeriesParams::table_i(1.0);
         assert!((r.interval_s.output_std() - 3.08e-3).abs() < 0.05e-3);

@@ -95,7 +95,7 @@ pub struct FractalSettings {
     /// [[`MIN_BETA`], [`MAX_BETA`]] (−1.5 smooth … 0 rough; TASLP §V-C).
     pub beta: f64,
     /// Peak-to-valley relief of the profile (m): the profile is clamped to ±relief/2 and
-    /// has σ = relief/[`RELIEF_PER_SIGMA`]. The paper's 0.1 µm makes no impacts (DESIGN §7);
+    /// has σ = relief/[`RELIEF_PER_SIGMA`]. The paper's 0.1 µm makes no impacts (docs/MODEL.md §7);
     /// see [`crate::physics::PhysicsSettings::relief_m`].
     pub relief_m: f64,
     /// Spatial sampling step Δ of the profile (m); 0.1 mm in the paper (TASLP §III).

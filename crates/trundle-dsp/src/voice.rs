@@ -461,7 +461,7 @@ impl Voice {
             && self.balls.active() == 0
             && self.object.is_silent()
         {
-            // Silence skip (DESIGN "Speed and accuracy"): the ball at rest on the signal
+            // Silence skip (docs/MODEL.md "Speed and accuracy"): the ball at rest on the signal
             // engine, no extra ball, the DC blocker settled (its input and output were zero
             // last chunk, so `coupled` is still all zero) and the object rung out. The
             // object only advances its control smoothers (it touches no mode for a zero

@@ -1,4 +1,4 @@
-//! Level of detail (DESIGN "Speed and accuracy", `object` module docs): the `quality`
+//! Level of detail (docs/MODEL.md "Speed and accuracy", `object` module docs): the `quality`
 //! budget, culling of inaudible modes and the silence skip. Work is counted (mode·samples
 //! the bank processed), not timed, so these tests do not depend on the machine's load.
 

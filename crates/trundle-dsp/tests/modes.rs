@@ -1,4 +1,4 @@
-//! Each mode's measured frequency, decay time and gain match what was set (DESIGN §6).
+//! Each mode's measured frequency, decay time and gain match what was set (docs/MODEL.md §6).
 //!
 //! An object (shape × material × size × sample rate) is excited with a unit impulse and its
 //! rendered output is analysed mode by mode; nothing about the engine's coefficients is read
@@ -337,7 +337,7 @@ fn bank_impulse_response(c: f32, s: f32, n: usize) -> Vec<f32> {
 const MATERIALS: [(&str, usize, Material); 3] =
     [("wood", 0, WOOD), ("metal", 1, METAL), ("glass", 2, GLASS)];
 
-/// What was set must follow the documented formulas (DESIGN §6, `object`, `material`,
+/// What was set must follow the documented formulas (docs/MODEL.md §6, `object`, `material`,
 /// `shape`): fₖ = f₁·ratioₖ with f₁ = 100 Hz·(1 m/size) (string: k·f₁) and
 /// τₖ = decay/exp(α_G + α_R·2πfₖ) bounded to [0.2 ms, 60 s], computed here from the
 /// anchor constants, not through `Material::from_disk`.
@@ -701,7 +701,7 @@ fn long_decays_stay_within_the_f32_pole_rounding_bound() {
     }
 }
 
-/// The engine promises decays up to 60 s at 8–384 kHz (DESIGN §6, `material::DECAY_MAX_S`).
+/// The engine promises decays up to 60 s at 8–384 kHz (docs/MODEL.md §6, `material::DECAY_MAX_S`).
 /// Measured on the rendered output (20 Hz, 1 kHz, 6.5 kHz, f_s/2 − 20 Hz), a set 60 s decay
 /// comes out at 55–59 s at 44.1 kHz, 52–58 s at 48 kHz, 44–48 s at 96 kHz (the f32 pole
 /// rounding of `phasor_coeffs`) and 27–46 s at 384 kHz (there the f32 state cannot follow

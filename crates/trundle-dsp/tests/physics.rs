@@ -66,7 +66,7 @@ fn autocorrelation(x: &[f64], max_lag: usize) -> Vec<f64> {
         .collect()
 }
 
-/// Whitening residual of H(z) = (1 + b z⁻¹)/(1 + a z⁻¹) (DESIGN §1, TASLP eq 13):
+/// Whitening residual of H(z) = (1 + b z⁻¹)/(1 + a z⁻¹) (docs/MODEL.md §1, TASLP eq 13):
 /// e[n] = x[n] + a·x[n−1] − b·e[n−1]; returns the mean residual energy.
 fn whiten(x: &[f64], a: f64, b: f64, e: &mut Vec<f64>) -> f64 {
     e.clear();
@@ -431,7 +431,7 @@ fn rk4_single_impact_converges() {
 // ---------------------------------------------------------------------------------------
 // Rolling.
 
-/// The defaults give a clear train of separate micro-impacts (TASLP Fig. 3; DESIGN §7),
+/// The defaults give a clear train of separate micro-impacts (TASLP Fig. 3; docs/MODEL.md §7),
 /// and the health report says the step resolves them.
 #[test]
 fn default_rolling_is_a_train_of_separate_impacts() {
