@@ -23,6 +23,7 @@ fn bench_json_has_every_timing() {
     let modal = get("modal_ns_per_mode_sample");
     let voice = get("voice_ns_per_sample");
     get("physics_ns_per_sample");
+    let source = get("source_ns_per_sample");
     let scene = get("scene16_ns_per_sample");
     get("balls16_ns_per_sample");
     get("idle_ns_per_sample");
@@ -45,6 +46,13 @@ fn bench_json_has_every_timing() {
         voice > 32.0 * modal * 0.5,
         "voice {voice} vs bank {modal} per mode"
     );
+    // The source alone is the voice without its bank: cheaper (loose, as above).
+    assert!(source < voice * 1.5, "source {source} ns vs voice {voice} ns");
+    // Honest anchors (#16): only what this run measured; no other tool's constants.
+    let text = String::from_utf8_lossy(&o.stdout);
+    for word in ["sdt", "SDT", "faster"] {
+        assert!(!text.contains(word), "{word:?} in {text}");
+    }
 }
 
 #[test]
@@ -55,7 +63,17 @@ fn bench_table_names_the_targets() {
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let text = String::from_utf8(o.stdout).unwrap();
-    for needle in ["ns/mode·sample", "real-time", "voices/core", "targets:"] {
+    for needle in [
+        "ns/mode·sample",
+        "real-time",
+        "voices/core",
+        "source alone",
+        "targets:",
+    ] {
         assert!(text.contains(needle), "no {needle:?} in\n{text}");
+    }
+    // Honest anchors (#16): the table prints only this run's measurements.
+    for word in ["SDT", "faster", "anchor"] {
+        assert!(!text.contains(word), "{word:?} in\n{text}");
     }
 }

@@ -73,6 +73,7 @@ pub mod disk;
 pub mod engine;
 #[cfg(feature = "fit")]
 pub mod fit;
+pub mod limiter;
 pub mod lowpass;
 pub mod material;
 pub mod modal;

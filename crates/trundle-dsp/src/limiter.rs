@@ -1,0 +1,380 @@
+//! A transparent look-ahead safety limiter: what leaves the plugin never reaches full scale.
+//!
+//! Issue #12 ("levels a mixing engineer trusts"): a level law keeps every built-in scene
+//! below 0 dBFS; this limiter is the safety net behind it for what a user can still do
+//! (sixteen balls at full velocity, a resonant object driven hard). It is designed to act
+//! rarely and to be inaudible when it does:
+//!
+//! * **Look-ahead, stereo-linked.** The audio is delayed by [`LOOKAHEAD_S`] (1.5 ms). The gain
+//!   each sample needs, g_req = min(1, ceiling / max(|L|, |R|)), is held at its minimum over
+//!   the look-ahead window and averaged over the same length, so the gain has already
+//!   glided down when the peak leaves the delay line. The average of L values that are each
+//!   ≤ the peak's g_req is itself ≤ g_req (the proof is in [`Limiter::process_frame`]), so the
+//!   ceiling holds without clipping; a final clamp only guards rounding.
+//! * **Release** by a one-pole towards 1 with [`RELEASE_S`] (80 ms): slow enough not to
+//!   modulate a ringing object at its low modes, fast enough to let the next impact through.
+//! * **Ceiling** [`CEILING_DB`] (−1 dBFS): headroom for inter-sample peaks and lossy encoders.
+//! * **Real-time safe.** Buffers are sized in [`Limiter::new`] / [`Limiter::set_sample_rate`];
+//!   `process_*` never allocate. Per-sample processing: the output does not depend on the
+//!   block size. Deterministic, no random state.
+//! * **Constant latency.** The delay is there whether the limiter is enabled or bypassed
+//!   ([`Limiter::set_enabled`]), so a host's latency compensation never changes while playing.
+//!
+//! The meter ([`Limiter::gain_reduction_db`], [`Limiter::touched`]) lets an editor show when it
+//! acts.
+
+/// The output ceiling, dBFS.
+pub const CEILING_DB: f64 = -1.0;
+/// Look-ahead (and attack) time, s.
+pub const LOOKAHEAD_S: f64 = 0.0015;
+/// Release time constant (1/e), s.
+pub const RELEASE_S: f64 = 0.08;
+
+/// Stereo-linked look-ahead peak limiter (see the module docs).
+#[derive(Debug, Clone)]
+pub struct Limiter {
+    enabled: bool,
+    ceiling: f32,
+    /// Look-ahead in samples (≥ 1).
+    len: usize,
+    /// Delay lines for the two channels, `len` long.
+    delay_l: Vec<f32>,
+    delay_r: Vec<f32>,
+    /// Required gains of the last `len + 1` samples, for the running minimum.
+    req: Vec<f32>,
+    /// Monotonic deque (indices into time) over `req`, as a ring of `len + 1`.
+    deque: Vec<u64>,
+    dq_head: usize,
+    dq_len: usize,
+    /// Released gains of the last `len` samples and their running sum (box average).
+    box_vals: Vec<f32>,
+    box_sum: f64,
+    released: f32,
+    release_coef: f32,
+    /// Samples processed since `reset`.
+    t: u64,
+    /// Smallest gain applied since the meter was last read.
+    meter_min: f32,
+    touched: u64,
+}
+
+impl Limiter {
+    /// A limiter for `sample_rate_hz`, enabled.
+    ///
+    /// # Allocation
+    /// Allocates its delay lines (≈ 3·1.5 ms of samples).
+    pub fn new(sample_rate_hz: f64) -> Self {
+        let mut l = Limiter {
+            enabled: true,
+            ceiling: 10f64.powf(CEILING_DB / 20.0) as f32,
+            len: 1,
+            delay_l: Vec::new(),
+            delay_r: Vec::new(),
+            req: Vec::new(),
+            deque: Vec::new(),
+            dq_head: 0,
+            dq_len: 0,
+            box_vals: Vec::new(),
+            box_sum: 0.0,
+            released: 1.0,
+            release_coef: 0.0,
+            t: 0,
+            meter_min: 1.0,
+            touched: 0,
+        };
+        l.set_sample_rate(sample_rate_hz);
+        l
+    }
+
+    /// Size the buffers for a new sample rate and reset.
+    ///
+    /// # Allocation
+    /// Reallocates the delay lines; call off the audio thread.
+    pub fn set_sample_rate(&mut self, sample_rate_hz: f64) {
+        let fs = if sample_rate_hz.is_finite() && sample_rate_hz > 0.0 {
+            sample_rate_hz
+        } else {
+            48_000.0
+        };
+        self.len = ((LOOKAHEAD_S * fs).round() as usize).max(1);
+        self.delay_l = vec![0.0; self.len];
+        self.delay_r = vec![0.0; self.len];
+        self.req = vec![1.0; self.len + 1];
+        self.deque = vec![0; self.len + 1];
+        self.box_vals = vec![1.0; self.len];
+        self.release_coef = (1.0 - (-1.0 / (RELEASE_S * fs)).exp()) as f32;
+        self.reset();
+    }
+
+    /// Clear the delay lines and the gain state (real-time safe).
+    pub fn reset(&mut self) {
+        self.delay_l.iter_mut().for_each(|x| *x = 0.0);
+        self.delay_r.iter_mut().for_each(|x| *x = 0.0);
+        self.req.iter_mut().for_each(|x| *x = 1.0);
+        self.box_vals.iter_mut().for_each(|x| *x = 1.0);
+        self.box_sum = self.len as f64;
+        self.dq_head = 0;
+        self.dq_len = 0;
+        self.released = 1.0;
+        self.t = 0;
+        self.meter_min = 1.0;
+        self.touched = 0;
+    }
+
+    /// Turn the gain stage on or off; the delay (latency) stays either way.
+    pub fn set_enabled(&mut self, enabled: bool) {
+        self.enabled = enabled;
+    }
+
+    /// Whether the gain stage is on.
+    pub fn enabled(&self) -> bool {
+        self.enabled
+    }
+
+    /// The latency in samples the host must compensate.
+    pub fn latency_samples(&self) -> usize {
+        self.len
+    }
+
+    /// The ceiling as a linear amplitude.
+    pub fn ceiling(&self) -> f32 {
+        self.ceiling
+    }
+
+    /// Samples whose gain was below 1 since `reset`.
+    pub fn touched(&self) -> u64 {
+        self.touched
+    }
+
+    /// The deepest gain reduction since the last call, in dB (≤ 0; 0 when idle), and
+    /// restart the meter. For an editor's indicator.
+    pub fn gain_reduction_db(&mut self) -> f32 {
+        let g = self.meter_min;
+        self.meter_min = 1.0;
+        20.0 * g.max(1e-6).log10()
+    }
+
+    /// One stereo frame through the limiter; returns the delayed, limited frame.
+    ///
+    /// Why the ceiling holds: the frame that leaves now entered `len` samples ago with
+    /// required gain g₀. The running minimum h over the last `len + 1` required gains is
+    /// ≤ g₀ at each of the `len` most recent samples (each window contains the frame's
+    /// entry), the released gain r ≤ h (it falls at once and rises slowly), and the gain
+    /// applied is the mean of those `len` values of r: ≤ g₀.
+    #[inline]
+    pub fn process_frame(&mut self, l: f32, r: f32) -> (f32, f32) {
+        let l = if l.is_finite() { l } else { 0.0 };
+        let r = if r.is_finite() { r } else { 0.0 };
+        let peak = l.abs().max(r.abs());
+        let g_req = if peak > self.ceiling {
+            self.ceiling / peak
+        } else {
+            1.0
+        };
+        // Running minimum over the last len + 1 required gains (monotonic deque).
+        let cap = self.len + 1;
+        let t = self.t;
+        self.req[(t % cap as u64) as usize] = g_req;
+        while self.dq_len > 0 {
+            let back = self.deque[(self.dq_head + self.dq_len - 1) % cap];
+            if self.req[(back % cap as u64) as usize] >= g_req {
+                self.dq_len -= 1;
+            } else {
+                break;
+            }
+        }
+        self.deque[(self.dq_head + self.dq_len) % cap] = t;
+        self.dq_len += 1;
+        while t - self.deque[self.dq_head] >= cap as u64 {
+            self.dq_head = (self.dq_head + 1) % cap;
+            self.dq_len -= 1;
+        }
+        let held = self.req[(self.deque[self.dq_head] % cap as u64) as usize];
+        // Release: fall at once, rise by a one-pole.
+        self.released = if held < self.released {
+            held
+        } else {
+            self.released + (held - self.released) * self.release_coef
+        };
+        // Box average over the last len released gains.
+        let slot = (t % self.len as u64) as usize;
+        self.box_sum += f64::from(self.released) - f64::from(self.box_vals[slot]);
+        self.box_vals[slot] = self.released;
+        if slot == 0 {
+            // Re-sum once per window: no drift of the running sum, however long the render.
+            self.box_sum = self.box_vals.iter().map(|&v| f64::from(v)).sum();
+        }
+        let gain = ((self.box_sum / self.len as f64) as f32).min(1.0);
+        // Delay line.
+        let dl = std::mem::replace(&mut self.delay_l[slot], l);
+        let dr = std::mem::replace(&mut self.delay_r[slot], r);
+        self.t += 1;
+        if !self.enabled {
+            return (dl, dr);
+        }
+        if gain < 1.0 - 1e-6 {
+            self.touched += 1;
+        }
+        self.meter_min = self.meter_min.min(gain);
+        let c = self.ceiling;
+        (
+            flush((dl * gain).clamp(-c, c)),
+            flush((dr * gain).clamp(-c, c)),
+        )
+    }
+
+    /// Process a stereo block in place (any length; real-time safe).
+    pub fn process_stereo(&mut self, left: &mut [f32], right: &mut [f32]) {
+        for (l, r) in left.iter_mut().zip(right.iter_mut()) {
+            (*l, *r) = self.process_frame(*l, *r);
+        }
+    }
+
+    /// Process a mono block in place (both channels of the detector are the signal).
+    pub fn process_mono(&mut self, buf: &mut [f32]) {
+        for x in buf.iter_mut() {
+            *x = self.process_frame(*x, *x).0;
+        }
+    }
+}
+
+/// Zero for subnormal (and tiny) values: nothing below 10⁻³⁰ leaves the limiter.
+#[inline]
+fn flush(x: f32) -> f32 {
+    if x.abs() < 1e-30 {
+        0.0
+    } else {
+        x
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn noise(n: usize, seed: u32) -> Vec<f32> {
+        let mut s = seed;
+        (0..n)
+            .map(|_| {
+                s = s.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+                (s >> 8) as f32 / (1u32 << 24) as f32 - 0.5
+            })
+            .collect()
+    }
+
+    #[test]
+    fn quiet_signal_passes_delayed_and_untouched() {
+        let mut lim = Limiter::new(48_000.0);
+        let d = lim.latency_samples();
+        assert_eq!(d, 72);
+        let x = noise(4800, 1); // peak 0.5 < ceiling 0.891
+        let mut l = x.clone();
+        let mut r = x.clone();
+        lim.process_stereo(&mut l, &mut r);
+        for i in d..x.len() {
+            assert_eq!(l[i], x[i - d]);
+            assert_eq!(r[i], x[i - d]);
+        }
+        assert_eq!(lim.touched(), 0);
+        assert_eq!(lim.gain_reduction_db(), 0.0);
+    }
+
+    #[test]
+    fn peaks_stay_below_the_ceiling_at_every_rate() {
+        for fs in [8_000.0, 44_100.0, 48_000.0, 96_000.0, 384_000.0] {
+            let mut lim = Limiter::new(fs);
+            // Impacts 20 dB over full scale on a quiet bed, and a loud burst.
+            let mut l = noise(20_000, 3);
+            let mut r = noise(20_000, 4);
+            for k in (100..20_000).step_by(997) {
+                l[k] = 10.0;
+                r[k + 1 - 1] = -7.0;
+            }
+            for x in &mut l[12_000..13_000] {
+                *x *= 30.0;
+            }
+            lim.process_stereo(&mut l, &mut r);
+            let c = lim.ceiling();
+            let peak = l.iter().chain(&r).fold(0f32, |m, x| m.max(x.abs()));
+            assert!(peak <= c, "fs {fs}: peak {peak} > ceiling {c}");
+            assert!(lim.gain_reduction_db() < -20.0);
+        }
+    }
+
+    #[test]
+    fn the_gain_is_smooth_not_a_clipper() {
+        // A single 10× spike: the gain glides down over the look-ahead, the spike leaves at
+        // (just below) the ceiling, and the neighbours are scaled, not clipped.
+        let mut lim = Limiter::new(48_000.0);
+        let n = 30_000;
+        let mut l = vec![0.1f32; n];
+        l[500] = 10.0;
+        let mut r = l.clone();
+        lim.process_stereo(&mut l, &mut r);
+        let d = lim.latency_samples();
+        let out_peak = l[500 + d];
+        assert!(out_peak <= lim.ceiling() && out_peak > 0.5 * lim.ceiling());
+        // Just before the spike the gain is already down (look-ahead), smoothly.
+        let before = l[500 + d - 1] / 0.1;
+        assert!(before < 0.6, "gain before the spike {before}");
+        // The gain is a box average of `d` values in [0, 1]: it moves by at most 1/d per
+        // sample (no step a clipper would make). Measured on the 0.1 bed, skipping the spike.
+        let gains: Vec<f32> = (d..n)
+            .filter(|&i| i != 500 + d)
+            .map(|i| l[i] / 0.1)
+            .collect();
+        let max_step = gains
+            .windows(2)
+            .map(|w| (w[1] - w[0]).abs())
+            .fold(0f32, f32::max);
+        // Skipping the spike joins two samples two apart: allow two steps.
+        assert!(max_step <= 2.0 / d as f32 + 1e-4, "gain step {max_step}");
+        // Released within a few time constants.
+        let late = l[500 + d + (5.0 * RELEASE_S * 48_000.0) as usize] / 0.1;
+        assert!(late > 0.99, "gain 5 release constants later {late}");
+    }
+
+    #[test]
+    fn bypass_keeps_the_latency_and_the_samples() {
+        let mut lim = Limiter::new(48_000.0);
+        lim.set_enabled(false);
+        let x: Vec<f32> = noise(1000, 9).iter().map(|v| v * 10.0).collect();
+        let mut l = x.clone();
+        let mut r = x.clone();
+        lim.process_stereo(&mut l, &mut r);
+        let d = lim.latency_samples();
+        for i in d..x.len() {
+            assert_eq!(l[i], x[i - d]);
+        }
+    }
+
+    #[test]
+    fn block_size_does_not_change_the_output() {
+        let x: Vec<f32> = noise(10_000, 5).iter().map(|v| v * 6.0).collect();
+        let mut whole = x.clone();
+        let mut whole_r = x.clone();
+        Limiter::new(44_100.0).process_stereo(&mut whole, &mut whole_r);
+        let mut lim = Limiter::new(44_100.0);
+        let mut pieces = x.clone();
+        let mut pieces_r = x.clone();
+        let mut i = 0;
+        let mut len = 1;
+        while i < x.len() {
+            let e = (i + len).min(x.len());
+            lim.process_stereo(&mut pieces[i..e], &mut pieces_r[i..e]);
+            i = e;
+            len = len * 3 % 997 + 1;
+        }
+        assert_eq!(whole, pieces);
+    }
+
+    #[test]
+    fn non_finite_input_becomes_silence_not_nan() {
+        let mut lim = Limiter::new(48_000.0);
+        let mut l = vec![f32::NAN, f32::INFINITY, 1e-40, 0.5];
+        l.extend(std::iter::repeat_n(0.0, 200));
+        let mut r = l.clone();
+        lim.process_stereo(&mut l, &mut r);
+        assert!(l.iter().all(|x| x.is_finite() && (*x == 0.0 || x.abs() > 1e-30)));
+    }
+}
