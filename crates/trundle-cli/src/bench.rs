@@ -10,7 +10,7 @@
 //! | `physics_ns_per_sample` | the same with `engine = physics` |
 //! | `scene16_ns_per_sample` | 16 default voices (seeds 1…16) summed: sixteen balls on sixteen objects |
 //! | `balls16_ns_per_sample` | one voice with 16 extra balls on its object ([`trundle_dsp::balls`]) |
-//! | `source_ns_per_sample` | the default voice with `output = force`: the source alone (series, pulses, AM, low-pass, DC blocker, position stage), no bank |
+//! | `source_ns_per_sample` | the signal source alone ([`trundle_dsp::source::Source`]: series, pulses, AM, velocity low-pass) at the default controls, in chunks of [`CHUNK`]: no position stage, DC blocker or bank |
 //! | `idle_ns_per_sample` | a voice whose ball is at rest and whose object has rung out |
 //!
 //! plus the bank and the voice at 8/32/128 modes, the real-time factor (seconds of audio
@@ -25,6 +25,7 @@ use std::time::{Duration, Instant};
 use clap::Args;
 use serde_json::json;
 use trundle_dsp::modal::{phasor_coeffs, Kernel, ModalBank, ModeCoeffs};
+use trundle_dsp::source::{Source, SourceControls};
 use trundle_dsp::{ParamId, Params, Voice, CHUNK};
 
 use crate::error::{failure, CliError};
@@ -101,6 +102,22 @@ fn voices_ns(budget: Duration, voices: &mut [Voice]) -> f64 {
     })
 }
 
+/// ns per sample of the signal source alone at the default controls, warmed for 0.1 s.
+fn source_ns(budget: Duration) -> f64 {
+    let mut src = Source::new(FS, SourceControls::default(), 1);
+    let mut chunk = [0f32; CHUNK];
+    let chunks = (0.1 * FS) as usize / CHUNK;
+    for _ in 0..chunks {
+        src.process_chunk(&mut chunk);
+    }
+    best_ns(budget, chunks * CHUNK, || {
+        for _ in 0..chunks {
+            src.process_chunk(&mut chunk);
+            black_box(&chunk);
+        }
+    })
+}
+
 /// ns per mode·sample of the bank alone with `modes` modes (object-like settings).
 fn modal_ns(budget: Duration, modes: usize) -> f64 {
     let mut bank = ModalBank::new(modes);
@@ -151,11 +168,7 @@ fn measure(quick: bool) -> Result<Report, CliError> {
         voice.push((m, voices_ns(budget, &mut v)));
     }
     let physics = voices_ns(budget, &mut [warm_voice(&params(32, "physics", 1)?)]);
-    let mut force = params(32, "signal", 1)?;
-    force
-        .set_text("output", "force")
-        .map_err(|e| failure(format!("bench parameters: {e}")))?;
-    let source = voices_ns(budget, &mut [warm_voice(&force)]);
+    let source = source_ns(budget);
     let mut sixteen = (1..=16)
         .map(|seed| params(32, "signal", seed).map(|p| warm_voice(&p)))
         .collect::<Result<Vec<_>, _>>()?;
@@ -231,7 +244,7 @@ fn table(r: &Report) -> String {
         );
     }
     s += &format!(
-        "  source alone        {:>9.1}   {:>11.0}   (output = force: no bank)\n",
+        "  source alone        {:>9.1}   {:>11.0}   (series, pulses, AM, low-pass: no bank)\n",
         r.source,
         realtime(r.source)
     );

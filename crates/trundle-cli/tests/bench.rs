@@ -46,8 +46,12 @@ fn bench_json_has_every_timing() {
         voice > 32.0 * modal * 0.5,
         "voice {voice} vs bank {modal} per mode"
     );
-    // The source alone is the voice without its bank: cheaper (loose, as above).
-    assert!(source < voice * 1.5, "source {source} ns vs voice {voice} ns");
+    // The source alone is part of the voice: it costs less (loose, as above: a shared
+    // machine can disturb either timing by tens of percent).
+    assert!(
+        source < voice * 1.5,
+        "source {source} ns vs voice {voice} ns"
+    );
     // Honest anchors (#16): only what this run measured; no other tool's constants.
     let text = String::from_utf8_lossy(&o.stdout);
     for word in ["sdt", "SDT", "faster"] {

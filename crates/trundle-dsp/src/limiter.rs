@@ -375,6 +375,8 @@ mod tests {
         l.extend(std::iter::repeat_n(0.0, 200));
         let mut r = l.clone();
         lim.process_stereo(&mut l, &mut r);
-        assert!(l.iter().all(|x| x.is_finite() && (*x == 0.0 || x.abs() > 1e-30)));
+        assert!(l
+            .iter()
+            .all(|x| x.is_finite() && (*x == 0.0 || x.abs() > 1e-30)));
     }
 }
