@@ -60,24 +60,17 @@ pub fn presets(json: bool) -> String {
     out
 }
 
+/// The range as `--set` accepts it, written by the table's one formatter (the plugin's
+/// and the editor's text).
 fn range_text(p: &ParamSpec) -> String {
     match p.kind {
         ParamKind::Enum(names) => names.join("|"),
-        ParamKind::Int => format!("{}..{}", p.min as i64, p.max as i64),
-        ParamKind::Float { .. } => format!("{}..{}", p.min, p.max),
+        _ => format!("{}..{}", p.format(p.min), p.format(p.max)),
     }
 }
 
 fn default_text(p: &ParamSpec) -> String {
-    match p.kind {
-        ParamKind::Enum(names) => names
-            .get(p.default as usize)
-            .copied()
-            .unwrap_or("?")
-            .to_string(),
-        ParamKind::Int => format!("{}", p.default as i64),
-        ParamKind::Float { .. } => format!("{}", p.default),
-    }
+    p.format(p.default)
 }
 
 /// Every parameter: a table (key, unit, range, default, doc) or a JSON array.
@@ -91,8 +84,8 @@ pub fn params(json: bool) -> String {
                 m.insert("name".into(), json!(p.name));
                 m.insert("unit".into(), json!(p.unit));
                 let kind = match p.kind {
-                    ParamKind::Float { log: false } => "float",
-                    ParamKind::Float { log: true } => "log",
+                    ParamKind::Float { log: false, .. } => "float",
+                    ParamKind::Float { log: true, .. } => "log",
                     ParamKind::Int => "int",
                     ParamKind::Enum(names) => {
                         m.insert("variants".into(), json!(names));

@@ -25,7 +25,7 @@ use std::fs::{self, File};
 use std::io::{self, BufReader, BufWriter, IsTerminal, Read, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use trundle_dsp::params::{spec_by_key, ParamId, OUTPUT_NAMES};
+use trundle_dsp::params::{spec_by_key, Output, ParamEnum, ParamId};
 use trundle_dsp::preset::{Lane, Preset, DEFAULT_PRESET};
 use trundle_dsp::{ImpactRecord, Params, Voice};
 
@@ -285,10 +285,7 @@ fn plan(args: &RenderArgs) -> Result<Plan, CliError> {
     }
 
     if args.force_only {
-        let force = OUTPUT_NAMES
-            .iter()
-            .position(|n| *n == "force")
-            .expect("the output parameter has a 'force' variant") as f64;
+        let force = Output::Force.index() as f64;
         if set_output.is_some_and(|o| o != force) {
             return Err(input(
                 "--force-only contradicts --set output=object; give one of them",

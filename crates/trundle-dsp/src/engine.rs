@@ -56,7 +56,7 @@
 //! [`crate::physics::PhysicsSettings::default`]).
 
 use crate::modulation::{depth_at, AsymmetryLaw};
-use crate::params::{ParamId, Params};
+use crate::params::{ParamEnum, ParamId, Params};
 use crate::physics::{PhysicsSettings, GRAVITY_M_S2, MAX_OVERSAMPLE};
 
 /// Which engine makes the interaction force.
@@ -68,15 +68,10 @@ pub enum Engine {
     Physics,
 }
 
-impl Engine {
-    /// From the parameter table's variant index (0 = signal, 1 = physics).
-    pub fn from_index(i: usize) -> Self {
-        if i == 1 {
-            Engine::Physics
-        } else {
-            Engine::Signal
-        }
-    }
+impl ParamEnum for Engine {
+    const VARIANTS: &'static [Self] = &[Engine::Signal, Engine::Physics];
+    const NAMES: &'static [&'static str] = &["signal", "physics"];
+    const ID: ParamId = ParamId::Engine;
 }
 
 /// Length of the crossfade between the two engines' forces when `engine` changes (s).
@@ -159,7 +154,7 @@ impl PhysicsControls {
             velocity: p.get(ParamId::Velocity),
             roughness: p.get(ParamId::Roughness),
             asymmetry: p.get(ParamId::Asymmetry),
-            asymmetry_law: AsymmetryLaw::from_index(p.get(ParamId::AsymmetryLaw) as usize),
+            asymmetry_law: p.asymmetry_law(),
             seed: p.seed(),
         }
     }

@@ -5,6 +5,8 @@
 //! is 0.3). The phase is kept in f64 and wrapped every sample, so it does not drift over
 //! hours of rendering, and it is continuous when ν_m changes (no clicks when V or S move).
 
+use crate::params::{ParamEnum, ParamId};
+
 /// The modulation frequency of TASLP eq 17: ν_m = 3·V/S Hz (S floored at 0.1).
 #[inline]
 pub fn rate_hz(velocity: f64, size: f64) -> f64 {
@@ -24,15 +26,10 @@ pub enum AsymmetryLaw {
     Speed2,
 }
 
-impl AsymmetryLaw {
-    /// From the parameter table's variant index (0 = constant, 1 = speed2).
-    pub fn from_index(i: usize) -> Self {
-        if i == 1 {
-            AsymmetryLaw::Speed2
-        } else {
-            AsymmetryLaw::Constant
-        }
-    }
+impl ParamEnum for AsymmetryLaw {
+    const VARIANTS: &'static [Self] = &[AsymmetryLaw::Constant, AsymmetryLaw::Speed2];
+    const NAMES: &'static [&'static str] = &["constant", "speed2"];
+    const ID: ParamId = ParamId::AsymmetryLaw;
 }
 
 /// AM rate (Hz) at which [`AsymmetryLaw::Speed2`] gives depth m.

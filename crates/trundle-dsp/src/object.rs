@@ -35,6 +35,7 @@
 
 use crate::material::Material;
 use crate::modal::{phasor_coeffs, ModalBank, ModeCoeffs, LANES};
+use crate::params::{ParamEnum, ParamId};
 use crate::shape::{Shape, ShapeTables, MAX_MODES};
 use crate::smooth::Smoother;
 
@@ -60,17 +61,18 @@ pub enum Quality {
     Ultra,
 }
 
-impl Quality {
-    /// From the parameter table's variant index (draft, normal, high, ultra).
-    pub fn from_index(i: usize) -> Self {
-        match i {
-            0 => Quality::Draft,
-            1 => Quality::Normal,
-            3 => Quality::Ultra,
-            _ => Quality::High,
-        }
-    }
+impl ParamEnum for Quality {
+    const VARIANTS: &'static [Self] = &[
+        Quality::Draft,
+        Quality::Normal,
+        Quality::High,
+        Quality::Ultra,
+    ];
+    const NAMES: &'static [&'static str] = &["draft", "normal", "high", "ultra"];
+    const ID: ParamId = ParamId::Quality;
+}
 
+impl Quality {
     /// Largest number of modes the object sounds.
     pub fn max_modes(self) -> usize {
         match self {

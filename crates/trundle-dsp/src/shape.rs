@@ -20,6 +20,8 @@
 
 use core::f64::consts::PI;
 
+use crate::params::{ParamEnum, ParamId};
+
 /// Maximum number of modes of any object.
 pub const MAX_MODES: usize = 256;
 
@@ -39,11 +41,12 @@ pub enum Shape {
 impl Shape {
     /// All shapes, in parameter-index order.
     pub const ALL: [Shape; 4] = [Shape::String, Shape::Bar, Shape::Plate, Shape::Shell];
+}
 
-    /// The shape with parameter index `i` (clamped).
-    pub fn from_index(i: usize) -> Shape {
-        Self::ALL[i.min(Self::ALL.len() - 1)]
-    }
+impl ParamEnum for Shape {
+    const VARIANTS: &'static [Self] = &Shape::ALL;
+    const NAMES: &'static [&'static str] = &["string", "bar", "plate", "shell"];
+    const ID: ParamId = ParamId::Shape;
 }
 
 /// One mode of a shape: frequency ratio to the first mode and excitation weight.

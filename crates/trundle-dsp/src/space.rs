@@ -30,6 +30,7 @@
 //! through the set position (radius at least 0.1). Both start at the set position, so
 //! switching trajectory never jumps; the ball's position is also smoothed.
 
+use crate::params::{ParamEnum, ParamId};
 use crate::smooth::Smoother;
 
 /// Reflection coefficient of the object's edges.
@@ -51,15 +52,10 @@ pub enum Trajectory {
     Circle,
 }
 
-impl Trajectory {
-    /// From the parameter table's variant index (manual, line, circle).
-    pub fn from_index(i: usize) -> Self {
-        match i {
-            1 => Trajectory::Line,
-            2 => Trajectory::Circle,
-            _ => Trajectory::Manual,
-        }
-    }
+impl ParamEnum for Trajectory {
+    const VARIANTS: &'static [Self] = &[Trajectory::Manual, Trajectory::Line, Trajectory::Circle];
+    const NAMES: &'static [&'static str] = &["manual", "line", "circle"];
+    const ID: ParamId = ParamId::Trajectory;
 }
 
 /// Controls of the position stage.

@@ -26,14 +26,12 @@ use crate::dcblock::DcBlock;
 use crate::engine::{
     auto_oversample, Engine, PhysicsControls, ENGINE_CROSSFADE_S, PHYSICS_FORCE_SCALE,
 };
-use crate::modulation::AsymmetryLaw;
 use crate::object::{Object, ObjectControls, Quality};
 use crate::params::{ParamId, Params};
 use crate::physics::{PhysicsEngine, MAX_OVERSAMPLE};
-use crate::shape::Shape;
 use crate::smooth::Smoother;
 use crate::source::{ImpactRecord, Source, SourceControls};
-use crate::space::{Space, SpaceControls, Trajectory};
+use crate::space::{Space, SpaceControls};
 use crate::CHUNK;
 
 /// Gain applied to the raw force when the output is the force (its peaks are then about
@@ -94,7 +92,7 @@ fn source_controls(p: &Params) -> SourceControls {
         sharpness: p.get(ParamId::Sharpness),
         action_x: p.get(ParamId::ActionX),
         action_y: p.get(ParamId::ActionY),
-        asymmetry_law: AsymmetryLaw::from_index(p.get(ParamId::AsymmetryLaw) as usize),
+        asymmetry_law: p.asymmetry_law(),
     }
 }
 
@@ -103,7 +101,7 @@ fn space_controls(p: &Params) -> SpaceControls {
         amount: p.get(ParamId::Comb),
         position: (p.get(ParamId::PositionX), p.get(ParamId::PositionY)),
         listen: (p.get(ParamId::ListenX), p.get(ParamId::ListenY)),
-        trajectory: Trajectory::from_index(p.get(ParamId::Trajectory) as usize),
+        trajectory: p.trajectory(),
         size_m: p.get(ParamId::ObjectSize),
         velocity: p.get(ParamId::Velocity),
     }
@@ -114,18 +112,18 @@ fn object_controls(p: &Params) -> ObjectControls {
         material_x: p.get(ParamId::MaterialX),
         material_y: p.get(ParamId::MaterialY),
         size_m: p.get(ParamId::ObjectSize),
-        shape: Shape::from_index(p.get(ParamId::Shape) as usize),
+        shape: p.shape(),
         modes: p.modes(),
         decay: p.get(ParamId::Decay),
     }
 }
 
 fn quality(p: &Params) -> Quality {
-    Quality::from_index(p.get(ParamId::Quality) as usize)
+    p.quality()
 }
 
 fn engine_target(p: &Params) -> f32 {
-    match Engine::from_index(p.get(ParamId::Engine) as usize) {
+    match p.engine() {
         Engine::Signal => 0.0,
         Engine::Physics => 1.0,
     }

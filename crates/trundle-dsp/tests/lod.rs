@@ -197,10 +197,7 @@ fn a_silent_voice_does_no_mode_work() {
     v.set_params(&p);
     let y = render(&mut v, 0.5);
     assert!(rms(&y) > 1e-4, "no sound after the ball restarted");
-    assert_eq!(
-        Quality::from_index(p.get(ParamId::Quality) as usize),
-        Quality::High
-    );
+    assert_eq!(p.quality(), Quality::High);
 }
 
 /// The silence skip is decided per internal chunk, so a voice stopped long enough to

@@ -22,8 +22,8 @@ fn params_from(fractions: &[f64]) -> Params {
     let mut p = Params::default();
     for (spec, &t) in PARAMS.iter().zip(fractions) {
         let v = match spec.kind {
-            ParamKind::Float { log: true } => spec.min * (spec.max / spec.min).powf(t),
-            ParamKind::Float { log: false } => spec.min + t * (spec.max - spec.min),
+            ParamKind::Float { log: true, .. } => spec.min * (spec.max / spec.min).powf(t),
+            ParamKind::Float { log: false, .. } => spec.min + t * (spec.max - spec.min),
             ParamKind::Int | ParamKind::Enum(_) => (spec.min + t * (spec.max - spec.min + 1.0))
                 .floor()
                 .min(spec.max),

@@ -382,17 +382,85 @@ mod tests {
     #[test]
     fn values_read_as_people_expect() {
         use trundle_dsp::params::spec_by_key;
-        let f = |k: &str, v: f64| params::format_value(spec_by_key(k).unwrap(), v);
+        let f = |k: &str, v: f64| spec_by_key(k).unwrap().format(v);
         assert_eq!(f("velocity", 0.35), "0.350 m/s");
-        assert_eq!(f("roughness", 0.5), "50 %");
+        assert_eq!(f("roughness", 0.5), "50.0 %");
         assert_eq!(f("gain_db", -6.0), "-6.0 dB");
-        assert_eq!(f("object_size", 1.2), "1.20 m");
+        assert_eq!(f("object_size", 1.2), "1.200 m");
         assert_eq!(f("shape", 3.0), "shell");
         let s = spec_by_key("roughness").unwrap();
-        assert_eq!(params::parse_value(s, "25 %"), Some(0.25));
-        assert_eq!(
-            params::parse_value(spec_by_key("shape").unwrap(), "bar"),
-            Some(1.0)
-        );
+        assert_eq!(s.parse_clamped("25 %"), Ok(0.25));
+        assert_eq!(spec_by_key("shape").unwrap().parse_clamped("bar"), Ok(1.0));
+        assert_eq!(params::parse_run("With Transport"), Some(0));
+        assert_eq!(params::format_run(1), "always");
+    }
+
+    /// What the free-audio CLAP validator's `param-conversions` test does, over every
+    /// parameter the plugin exposes (the table, `run`, `bypass`) and through nice-plug's own
+    /// conversions: value → text → value → text must give the same text and the same value,
+    /// and a value the plugin holds must read back from its text exactly.
+    #[test]
+    fn every_parameter_round_trips_value_text_value() {
+        let p = TrundleParams::default();
+        let mut state = 12_345u32;
+        let mut rand01 = || {
+            state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (state >> 8) as f32 / (1u32 << 24) as f32
+        };
+        for (id, ptr, _) in p.param_map() {
+            let mut values = vec![0.0f32, 1.0, 0.5];
+            values.extend((0..64).map(|_| rand01()));
+            for n in values {
+                // SAFETY: `p` outlives this use of its parameter pointers.
+                unsafe {
+                    for unit in [false, true] {
+                        let text = ptr.normalized_value_to_string(n, unit);
+                        let n1 = ptr
+                            .string_to_normalized_value(&text)
+                            .unwrap_or_else(|| panic!("{id}: cannot read back {text:?}"));
+                        let text1 = ptr.normalized_value_to_string(n1, unit);
+                        assert_eq!(text, text1, "{id}: {n} -> {text:?} -> {n1}");
+                        let n2 = ptr.string_to_normalized_value(&text1).unwrap();
+                        assert_eq!(n1, n2, "{id}: {text1:?}");
+                        // The plain value the plugin holds for n reads back as itself
+                        // (nice-plug's boolean `preview_plain` does not round, so bypass is
+                        // checked by its text above).
+                        if id == params::BYPASS_ID {
+                            continue;
+                        }
+                        assert_eq!(
+                            ptr.preview_plain(n1),
+                            ptr.preview_plain(n),
+                            "{id}: {n} -> {text:?}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn typed_values_with_units_reach_the_plugin() {
+        let p = TrundleParams::default();
+        let map = p.param_map();
+        let read = |key: &str, text: &str| {
+            let (_, ptr, _) = map.iter().find(|(id, _, _)| id == key).unwrap();
+            // SAFETY: `p` outlives this use of its parameter pointers.
+            unsafe {
+                ptr.string_to_normalized_value(text)
+                    .map(|n| ptr.preview_plain(n))
+            }
+        };
+        assert_eq!(read("velocity", "0.25 m/s"), Some(0.25));
+        assert_eq!(read("velocity", "250 mm/s"), Some(0.25));
+        assert_eq!(read("roughness", "25 %"), Some(0.25));
+        assert_eq!(read("roughness", "250 %"), Some(1.0));
+        assert_eq!(read("gain_db", "-6 dB"), Some(-6.0));
+        assert_eq!(read("object_size", "50 cm"), Some(0.5));
+        assert_eq!(read("shape", "bar"), Some(1.0));
+        assert_eq!(read("run", "always"), Some(1.0));
+        assert_eq!(read("run", "With transport"), Some(0.0));
+        assert_eq!(read("seed", "16777215"), Some(16_777_215.0));
+        assert_eq!(read("velocity", "fast"), None);
     }
 }

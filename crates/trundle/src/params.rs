@@ -84,69 +84,27 @@ impl TableParam {
     }
 }
 
-/// How many decimals value `v` of this row is shown with: three significant digits on a
-/// logarithmic control (read relative to its value: "0.0500 m", "1.20 m"), otherwise by the
-/// width of the range.
-fn decimals(spec: &ParamSpec, v: f64) -> usize {
-    if let ParamKind::Float { log: true } = spec.kind {
-        let magnitude = v.abs().max(1e-9).log10().floor() as i32;
-        return (2 - magnitude).clamp(0, 6) as usize;
-    }
-    let span = spec.max - spec.min;
-    if span >= 50.0 {
-        1
-    } else if span >= 5.0 {
-        2
-    } else {
-        3
-    }
+/// Names of the `run` parameter's values, in index order.
+pub const RUN_NAMES: [&str; 2] = ["with transport", "always"];
+
+/// Text of a `run` value.
+pub fn format_run(v: i32) -> String {
+    RUN_NAMES[v.clamp(0, 1) as usize].to_string()
 }
 
-/// Format a value of `spec` the way people read it: units, percentages for 0…1 amounts.
-pub fn format_value(spec: &ParamSpec, v: f64) -> String {
-    match spec.kind {
-        ParamKind::Enum(names) => names
-            .get(v.round().max(0.0) as usize)
-            .copied()
-            .unwrap_or("?")
-            .to_string(),
-        ParamKind::Int => format!("{}", v.round() as i64),
-        ParamKind::Float { .. } => {
-            let pct = spec.unit.is_empty()
-                && spec.min == 0.0
-                && spec.max == 1.0
-                && matches!(spec.key, "roughness" | "asymmetry" | "comb");
-            if pct {
-                format!("{:.0} %", v * 100.0)
-            } else if spec.unit.is_empty() {
-                format!("{v:.*}", decimals(spec, v))
-            } else if spec.unit == "x" {
-                format!("×{v:.2}")
-            } else {
-                format!("{v:.*} {}", decimals(spec, v), spec.unit)
-            }
-        }
-    }
-}
-
-/// Parse text typed by a user (numbers with or without unit, percentages, variant names).
-pub fn parse_value(spec: &ParamSpec, text: &str) -> Option<f64> {
-    let t = text.trim().trim_start_matches('×');
-    if let Ok(v) = spec.parse(t) {
-        return Some(v);
-    }
-    let number: String = t
-        .chars()
-        .take_while(|c| c.is_ascii_digit() || matches!(c, '.' | '-' | '+' | 'e' | 'E'))
-        .collect();
-    let v: f64 = number.parse().ok()?;
-    let v = if t.ends_with('%') { v / 100.0 } else { v };
-    v.is_finite().then(|| v.clamp(spec.min, spec.max))
+/// A `run` value from text: its name (any case) or its index.
+pub fn parse_run(text: &str) -> Option<i32> {
+    let t = text.trim();
+    RUN_NAMES
+        .iter()
+        .position(|n| n.eq_ignore_ascii_case(t))
+        .map(|i| i as i32)
+        .or_else(|| t.parse::<i32>().ok().filter(|i| (0..=1).contains(i)))
 }
 
 fn make(spec: &'static ParamSpec) -> TableParam {
     match spec.kind {
-        ParamKind::Float { log } => {
+        ParamKind::Float { log, .. } => {
             let (min, max) = (spec.min as f32, spec.max as f32);
             let range = if log {
                 // Skew so the geometric mean sits mid-travel: a logarithmic control.
@@ -162,9 +120,11 @@ fn make(spec: &'static ParamSpec) -> TableParam {
             };
             TableParam::Float(
                 FloatParam::new(spec.name, spec.default as f32, range)
-                    .with_value_to_string(Arc::new(move |v| format_value(spec, f64::from(v))))
+                    // Quantized to the text's resolution, so every value reads back exactly.
+                    .with_step_size(spec.step() as f32)
+                    .with_value_to_string(Arc::new(move |v| spec.format(f64::from(v))))
                     .with_string_to_value(Arc::new(move |s| {
-                        parse_value(spec, s).map(|v| v as f32)
+                        spec.parse_clamped(s).ok().map(|v| v as f32)
                     })),
             )
         }
@@ -177,8 +137,10 @@ fn make(spec: &'static ParamSpec) -> TableParam {
                     max: spec.max as i32,
                 },
             )
-            .with_value_to_string(Arc::new(move |v| format_value(spec, f64::from(v))))
-            .with_string_to_value(Arc::new(move |s| parse_value(spec, s).map(|v| v as i32))),
+            .with_value_to_string(Arc::new(move |v| spec.format(f64::from(v))))
+            .with_string_to_value(Arc::new(move |s| {
+                spec.parse_clamped(s).ok().map(|v| v as i32)
+            })),
         ),
     }
 }
@@ -201,15 +163,9 @@ impl Default for TrundleParams {
     fn default() -> Self {
         Self {
             table: PARAMS.iter().map(make).collect(),
-            run: IntParam::new("Run", 0, IntRange::Linear { min: 0, max: 1 }).with_value_to_string(
-                Arc::new(|v| {
-                    if v == 0 {
-                        "with transport".into()
-                    } else {
-                        "always".into()
-                    }
-                }),
-            ),
+            run: IntParam::new("Run", 0, IntRange::Linear { min: 0, max: 1 })
+                .with_value_to_string(Arc::new(format_run))
+                .with_string_to_value(Arc::new(parse_run)),
             bypass: BoolParam::new("Bypass", false).make_bypass(),
             editor_state: EguiEditorState::from_size(
                 nice_plug::editor::dpi::LogicalSize::<f64>::new(880.0, 600.0),
