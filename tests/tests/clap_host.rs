@@ -12,7 +12,7 @@ use rand::rngs::SmallRng;
 use rand::{Rng, SeedableRng};
 use std::time::Instant;
 use trundle_dsp::params::ParamKind;
-use trundle_dsp::PARAMS;
+use trundle_dsp::{ParamId, PARAMS};
 use trundle_tests::{bundle, Block, Instance, ParamDesc, Transport};
 
 use clack_extensions::params::ParamInfoFlags;
@@ -335,13 +335,17 @@ fn automation_sounds_and_a_saved_state_reproduces_the_exact_sound() {
         "a 250 ms window fell silent: {windows:?}"
     );
     assert!(peak(&out) < PEAK_LIMIT, "peak {}", peak(&out));
-    // The host sees the automated values.
+    // The host sees the automated values, quantized to the resolution of their text (the
+    // plugin holds only values whose text reads back exactly: 0.001 m/s for velocity).
     let last_velocity = events
         .iter()
         .rev()
         .find(|e| e.id == id("velocity"))
         .unwrap();
-    assert_eq!(a.param_value(id("velocity")).unwrap(), last_velocity.value);
+    let held = a.param_value(id("velocity")).unwrap();
+    let spec = ParamId::Velocity.spec();
+    assert_eq!(held as f32, spec.quantize(last_velocity.value as f32));
+    assert!((held - last_velocity.value).abs() <= 0.5 * spec.step() + 1e-7);
 
     // Save, then the reference: the same instance from a fresh start (restart = reset).
     let state = a.save_state().unwrap();

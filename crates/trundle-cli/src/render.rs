@@ -25,6 +25,7 @@ use std::fs::{self, File};
 use std::io::{self, BufReader, BufWriter, IsTerminal, Read, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+use trundle_dsp::events::{process_with_events, Scene, VoiceEvent};
 use trundle_dsp::params::{spec_by_key, Output, ParamEnum, ParamId};
 use trundle_dsp::preset::{Lane, Preset, DEFAULT_PRESET};
 use trundle_dsp::{ImpactRecord, Params, Voice};
@@ -186,9 +187,8 @@ struct Plan {
     params: Params,
     /// The preset's keyframe lanes (lanes of parameters given with --set are dropped).
     automation: Vec<Lane>,
-    /// The preset's extra balls as note events (sample, note, Some(velocity) = on / None =
-    /// off), sorted by sample.
-    events: Vec<(u64, u8, Option<f64>)>,
+    /// The preset's extra balls as note events at their samples, sorted by sample.
+    events: Vec<(u64, VoiceEvent)>,
     preset_name: String,
     sample_rate: u32,
     frames: u64,
@@ -320,9 +320,18 @@ fn plan(args: &RenderArgs) -> Result<Plan, CliError> {
     let fs = f64::from(sample_rate);
     let mut events = Vec::new();
     for b in &preset.balls {
-        events.push(((b.start_s * fs).round() as u64, b.note, Some(b.velocity)));
+        events.push((
+            (b.start_s * fs).round() as u64,
+            VoiceEvent::NoteOn {
+                note: b.note,
+                velocity: b.velocity,
+            },
+        ));
         if let Some(stop) = b.stop_s {
-            events.push(((stop * fs).round() as u64, b.note, None));
+            events.push((
+                (stop * fs).round() as u64,
+                VoiceEvent::NoteOff { note: b.note },
+            ));
         }
     }
     // Stable: an off and an on of the same note at the same sample keep the file's order.
@@ -765,13 +774,9 @@ struct Impacts {
     dropped: u64,
 }
 
-/// Samples between two applications of a preset's automation lanes (5.3 ms at 48 kHz; the
-/// voice smooths every change over 12 ms, so the lanes glide without steps).
-pub const AUTOMATION_STEP: usize = 256;
-
-/// Run the voice for `frames` samples in blocks of [`BLOCK`]; drain impacts after each
-/// block; hand each block to `sink`. With automation, the lanes are applied every
-/// [`AUTOMATION_STEP`] samples.
+/// Run the voice for `frames` samples in blocks of [`BLOCK`], the preset's automation and
+/// ball notes applied by the core's event loop ([`trundle_dsp::events`]); drain impacts
+/// after each block; hand each block to `sink`.
 #[allow(clippy::too_many_arguments)]
 fn render_pass(
     voice: &mut Voice,
@@ -784,46 +789,19 @@ fn render_pass(
 ) -> Result<(), CliError> {
     let mut block = vec![0f32; BLOCK];
     let mut done = 0u64;
-    let mut next_event_index = 0usize;
-    let next_event = &mut next_event_index;
+    let mut scene = Scene::new(
+        plan.params,
+        &plan.automation,
+        &plan.events,
+        f64::from(plan.sample_rate),
+    );
     while done < frames {
         let n = (frames - done).min(BLOCK as u64) as usize;
         let out = &mut block[..n];
-        if plan.automation.is_empty() && plan.events.is_empty() {
+        if scene.is_static() {
             voice.process(out);
         } else {
-            // Split the block at automation steps and ball events (sample-exact).
-            let fs = f64::from(plan.sample_rate);
-            let mut pos = 0usize;
-            while pos < n {
-                let now = done + pos as u64;
-                while *next_event < plan.events.len() && plan.events[*next_event].0 <= now {
-                    let (_, note, vel) = plan.events[*next_event];
-                    match vel {
-                        Some(v) => voice.note_on(note, v),
-                        None => voice.note_off(note),
-                    }
-                    *next_event += 1;
-                }
-                let mut end = n as u64 + done;
-                if !plan.automation.is_empty() {
-                    if now % AUTOMATION_STEP as u64 == 0 {
-                        let t = now as f64 / fs;
-                        let mut p = plan.params;
-                        for lane in &plan.automation {
-                            p.set_clamped(lane.id, lane.value_at(t));
-                        }
-                        voice.set_params(&p);
-                    }
-                    end = end.min((now / AUTOMATION_STEP as u64 + 1) * AUTOMATION_STEP as u64);
-                }
-                if let Some(&(at, _, _)) = plan.events.get(*next_event) {
-                    end = end.min(at.max(now + 1));
-                }
-                let len = (end - now) as usize;
-                voice.process(&mut out[pos..pos + len]);
-                pos += len;
-            }
+            process_with_events(voice, out, scene.events(done, n), |_, _, _| {});
         }
         let count = &mut impacts.count;
         impacts.dropped += voice.drain_impacts(|r| {

@@ -71,6 +71,8 @@ pub mod balls;
 pub mod dcblock;
 pub mod disk;
 pub mod engine;
+pub mod engine_mix;
+pub mod events;
 #[cfg(feature = "fit")]
 pub mod fit;
 pub mod limiter;

@@ -694,7 +694,7 @@ impl ParamSpec {
 
     /// Format a value for people — the one formatter of the plugin's host text, the editor
     /// and the CLI: an enumeration by name, an integer without decimals, a 0…1 percentage
-    /// row as "25.0 %", a factor as "×2.000", the rest with the row's unit ("0.500 m/s"),
+    /// row as "25 %", a factor as "×2.000", the rest with the row's unit ("0.500 m/s"),
     /// always with [`ParamSpec::decimals`] decimals.
     ///
     /// The plugin quantizes each continuous parameter to [`ParamSpec::step`], the resolution
@@ -727,10 +727,13 @@ impl ParamSpec {
     }
 
     /// Decimals of a continuous value's text: 1 on a range wider than 50 units (gain in dB),
-    /// 2 on one wider than 5, otherwise 3 (logarithmic rows too: 0.050 … 5.000 m); whole
-    /// numbers for integers and enumerations.
+    /// 2 on one wider than 5, otherwise 3 (logarithmic rows too: 0.050 … 5.000 m); a
+    /// percentage row in whole percent (2 decimals of its 0…1 value); none for integers and
+    /// enumerations.
     pub fn decimals(&self) -> usize {
         match self.kind {
+            // Whole percent: "25 %".
+            ParamKind::Float { percent: true, .. } => 2,
             ParamKind::Float { log: false, .. } => {
                 let span = self.max - self.min;
                 if span >= 50.0 {
@@ -1010,7 +1013,8 @@ mod tests {
         ok("roughness", "25 %", 0.25);
         ok("roughness", "25%", 0.25);
         ok("roughness", "0.25", 0.25);
-        ok("asymmetry", "30.0 %", 0.3);
+        ok("asymmetry", "30 %", 0.3);
+        ok("asymmetry", "30.5 %", 0.305);
         ok("gain_db", "-6 dB", -6.0);
         ok("gain_db", "\u{2212}6 dB", -6.0);
         ok("gain_db", "-6db", -6.0);

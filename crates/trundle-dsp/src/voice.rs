@@ -9,9 +9,9 @@
 //!
 //! The force comes from the signal model ([`Source`]) or from the physics engine
 //! ([`PhysicsEngine`]), chosen by the `engine` parameter; the mapping of the controls onto
-//! the physics and the level normalization are in [`crate::engine`]. A change of engine
-//! crossfades the two forces linearly over [`ENGINE_CROSSFADE_S`] (both run meanwhile);
-//! otherwise only the selected engine runs. With `engine = signal` the output is exactly
+//! the physics and the level normalization are in [`crate::engine`]; the choice, the
+//! physics controls' smoothing and the crossfade on a change of engine are
+//! [`crate::engine_mix::EngineMix`]'s. With `engine = signal` the output is exactly
 //! (bit for bit) what it was before the physics engine existed. The impact log
 //! ([`Voice::drain_impacts`]) reports the signal engine's impacts only.
 //!
@@ -23,12 +23,10 @@
 
 use crate::balls::BallPool;
 use crate::dcblock::DcBlock;
-use crate::engine::{
-    auto_oversample, Engine, PhysicsControls, ENGINE_CROSSFADE_S, PHYSICS_FORCE_SCALE,
-};
-use crate::object::{Object, ObjectControls, Quality};
+use crate::engine_mix::EngineMix;
+use crate::object::{Object, ObjectControls};
 use crate::params::{ParamId, Params};
-use crate::physics::{PhysicsEngine, MAX_OVERSAMPLE};
+use crate::physics::PhysicsEngine;
 use crate::smooth::Smoother;
 use crate::source::{ImpactRecord, Source, SourceControls};
 use crate::space::{Space, SpaceControls};
@@ -61,21 +59,8 @@ pub struct Voice {
     force: [f32; CHUNK],
     sound: [f32; CHUNK],
     coupled: [f32; CHUNK],
-    /// The physics engine (allocated in `new`; runs only while selected or fading).
-    physics: PhysicsEngine,
-    /// Smoothed size, velocity, roughness, asymmetry for the physics engine.
-    phys_ctrl: [Smoother; 4],
-    /// The physics controls' targets (law and seed are not smoothed).
-    phys_target: PhysicsControls,
-    /// RK4 substeps per sample; 0 = [`auto_oversample`].
-    phys_oversample: usize,
-    /// The physics engine ran in the previous chunk (else its controls snap on restart).
-    phys_running: bool,
-    /// Engine crossfade position: 0 = signal, 1 = physics.
-    engine_mix: f32,
-    /// Where the crossfade goes (0 or 1).
-    engine_target: f32,
-    phys_force: [f32; CHUNK],
+    /// The engine choice: the physics engine, its smoothing, the crossfade.
+    engines: EngineMix,
     /// Extra balls started like notes (see [`crate::balls`]).
     balls: BallPool,
     /// The last chunk's force and DC-blocked force were exactly zero (the DC blocker's
@@ -118,17 +103,6 @@ fn object_controls(p: &Params) -> ObjectControls {
     }
 }
 
-fn quality(p: &Params) -> Quality {
-    p.quality()
-}
-
-fn engine_target(p: &Params) -> f32 {
-    match p.engine() {
-        Engine::Signal => 0.0,
-        Engine::Physics => 1.0,
-    }
-}
-
 impl Voice {
     /// A voice at `sample_rate_hz` (sanitized to 8–384 kHz) with parameters `params`.
     ///
@@ -138,7 +112,6 @@ impl Voice {
     pub fn new(sample_rate_hz: f64, params: &Params) -> Self {
         let fs = crate::sanitize_sample_rate(sample_rate_hz);
         let seed = params.seed();
-        let pc = PhysicsControls::from_params(params);
         let mut v = Self {
             fs,
             params: *params,
@@ -154,69 +127,26 @@ impl Voice {
             force: [0.0; CHUNK],
             sound: [0.0; CHUNK],
             coupled: [0.0; CHUNK],
-            physics: PhysicsEngine::new(&pc.settings(fs, auto_oversample(fs))),
-            phys_ctrl: [
-                Smoother::new(pc.size),
-                Smoother::new(pc.velocity),
-                Smoother::new(pc.roughness),
-                Smoother::new(pc.asymmetry),
-            ],
-            phys_target: pc,
-            phys_oversample: 0,
-            phys_running: false,
-            engine_mix: engine_target(params),
-            engine_target: engine_target(params),
-            phys_force: [0.0; CHUNK],
+            engines: EngineMix::new(fs, params),
             balls: BallPool::new(fs),
             quiet: false,
         };
-        v.object.set_quality(quality(params));
+        v.object.set_quality(params.quality());
         v.object.set_controls(object_controls(params));
         v.reset();
         v
     }
 
-    fn oversample(&self) -> usize {
-        if self.phys_oversample == 0 {
-            quality(&self.params)
-                .physics_oversample()
-                .unwrap_or_else(|| auto_oversample(self.fs))
-        } else {
-            self.phys_oversample
-        }
-    }
-
     /// Choose the physics engine's RK4 substeps per output sample, 1..=8 (the accuracy knob
     /// of [`crate::physics`]); 0 = automatic (internal rate ≥ 96 kHz, see
-    /// [`auto_oversample`]). Real-time safe; applies from the next chunk.
+    /// [`crate::engine::auto_oversample`]). Real-time safe; applies from the next chunk.
     pub fn set_physics_oversample(&mut self, oversample: usize) {
-        self.phys_oversample = oversample.min(MAX_OVERSAMPLE);
-        self.apply_physics_controls();
+        self.engines.set_oversample(oversample);
     }
 
     /// The physics engine (health report, settings in force), for inspection.
     pub fn physics(&self) -> &PhysicsEngine {
-        &self.physics
-    }
-
-    /// Push the smoothed physics controls into the engine (real-time safe).
-    fn apply_physics_controls(&mut self) {
-        let c = PhysicsControls {
-            size: self.phys_ctrl[0].value(),
-            velocity: self.phys_ctrl[1].value(),
-            roughness: self.phys_ctrl[2].value(),
-            asymmetry: self.phys_ctrl[3].value(),
-            ..self.phys_target
-        };
-        let s = c.settings(self.fs, self.oversample());
-        self.physics.set_settings(&s);
-    }
-
-    fn snap_physics_controls(&mut self) {
-        for s in &mut self.phys_ctrl {
-            s.snap_to_target();
-        }
-        self.apply_physics_controls();
+        self.engines.physics()
     }
 
     /// The sample rate in Hz (after sanitizing).
@@ -232,7 +162,7 @@ impl Voice {
         self.dc.set_sample_rate(self.fs);
         self.balls.set_sample_rate(self.fs);
         self.object.set_sample_rate(self.fs);
-        self.apply_physics_controls();
+        self.engines.set_sample_rate(self.fs);
         self.reset();
     }
 
@@ -245,10 +175,7 @@ impl Voice {
         self.dc.reset();
         self.balls.reset(self.seed);
         self.object.reset();
-        self.snap_physics_controls();
-        self.physics.reset();
-        self.phys_running = false;
-        self.engine_mix = self.engine_target;
+        self.engines.reset();
         self.gain.snap_to_target();
         self.force_mix.snap_to_target();
         self.started = false;
@@ -265,36 +192,21 @@ impl Voice {
     /// the seed restarts the series; shape and mode count apply at the next chunk.
     /// Real-time safe.
     pub fn set_params(&mut self, params: &Params) {
-        let quality_changed = quality(params) != quality(&self.params);
         self.params = *params;
         self.source.set_controls(source_controls(params));
         self.space.set_controls(space_controls(params));
-        self.object.set_quality(quality(params));
+        self.object.set_quality(params.quality());
         self.object.set_controls(object_controls(params));
-        if quality_changed {
-            self.apply_physics_controls();
-        }
         self.gain.set_target(params.gain_linear());
         self.force_mix
             .set_target(if params.force_only() { 1.0 } else { 0.0 });
-        let pc = PhysicsControls::from_params(params);
-        for (s, v) in
-            self.phys_ctrl
-                .iter_mut()
-                .zip([pc.size, pc.velocity, pc.roughness, pc.asymmetry])
-        {
-            s.set_target(v);
-        }
-        self.phys_target = pc;
-        self.engine_target = engine_target(params);
         let seed = params.seed();
-        if seed != self.seed {
+        let seed_changed = seed != self.seed;
+        if seed_changed {
             self.seed = seed;
             self.source.set_seed(seed);
-            // A new surface: the seed of the profile takes effect at the engine's reset.
-            self.apply_physics_controls();
-            self.physics.reset();
         }
+        self.engines.set_params(params, seed_changed);
     }
 
     /// Record impacts for [`drain_impacts`](Self::drain_impacts).
@@ -363,7 +275,7 @@ impl Voice {
             self.object.snap_controls();
             self.gain.snap_to_target();
             self.force_mix.snap_to_target();
-            self.engine_mix = self.engine_target;
+            self.engines.snap();
             self.started = true;
         }
         let mut done = 0;
@@ -379,36 +291,11 @@ impl Voice {
         }
     }
 
-    /// One chunk of the physics force, normalized (see [`crate::engine`]) into `phys_force`.
-    fn physics_chunk(&mut self) {
-        let fs = self.fs;
-        if !self.phys_running {
-            self.snap_physics_controls();
-            self.phys_running = true;
-        } else {
-            let mut moving = false;
-            for s in &mut self.phys_ctrl {
-                moving |= s.is_moving();
-                s.advance(CHUNK, fs);
-            }
-            if moving {
-                self.apply_physics_controls();
-            }
-        }
-        self.physics.process(&mut self.phys_force);
-        let st = self.physics.settings();
-        let norm = (PHYSICS_FORCE_SCALE / (st.mass_kg * crate::physics::GRAVITY_M_S2)) as f32;
-        for x in &mut self.phys_force {
-            *x *= norm;
-        }
-    }
-
     fn render_chunk(&mut self) {
         let fs = self.fs;
-        let (m0, target) = (self.engine_mix, self.engine_target);
+        let signal_only = self.engines.signal_only();
         if self.quiet
-            && m0 == 0.0
-            && target == 0.0
+            && signal_only
             && self.balls.active() == 0
             && self.source.is_idle()
             && self.space.is_idle()
@@ -424,26 +311,7 @@ impl Voice {
             self.sound.fill(0.0);
             return;
         }
-        if m0 == 0.0 && target == 0.0 {
-            // Signal engine only: exactly the original chain.
-            self.source.process_chunk(&mut self.force);
-            self.phys_running = false;
-        } else if m0 == 1.0 && target == 1.0 {
-            self.physics_chunk();
-            self.force = self.phys_force;
-        } else {
-            // Crossfade: both engines, linear ramp of ENGINE_CROSSFADE_S.
-            self.source.process_chunk(&mut self.force);
-            self.physics_chunk();
-            let step = (1.0 / (ENGINE_CROSSFADE_S * fs)) as f32;
-            let step = if target > m0 { step } else { -step };
-            let mut m = m0;
-            for (f, p) in self.force.iter_mut().zip(&self.phys_force) {
-                m = (m + step).clamp(0.0, 1.0);
-                *f = (1.0 - m) * *f + m * *p;
-            }
-            self.engine_mix = m;
-        }
+        self.engines.force_chunk(&mut self.source, &mut self.force);
         self.space.process(&mut self.force);
         if self.balls.active() > 0 {
             // Extra balls roll on the same object: their forces add before it.
@@ -453,8 +321,7 @@ impl Voice {
         let silent_force = self.force.iter().all(|&f| f == 0.0);
         if self.quiet
             && silent_force
-            && m0 == 0.0
-            && target == 0.0
+            && signal_only
             && self.source.at_rest()
             && self.balls.active() == 0
             && self.object.is_silent()

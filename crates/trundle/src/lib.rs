@@ -41,6 +41,7 @@
 
 use nice_plug::prelude::*;
 use std::sync::Arc;
+use trundle_dsp::events::{process_with_events, TimedEvent, VoiceEvent};
 use trundle_dsp::{ParamId, Voice};
 
 pub mod editor;
@@ -97,32 +98,10 @@ impl Default for Trundle {
 
 impl Trundle {
     /// Put the voice in the state `Voice::new` gives with the current parameters. The
-    /// targets go in first: `Voice::reset` rebuilds the series, pulses and modes from them,
-    /// so a seed, preset or state loaded since the last block is honoured exactly.
-    ///
-    /// The voice is reset twice, the first time at a sharpness 1 away from the target:
-    /// trundle-dsp's `PulseShape::set_sharpness` keeps the pulse table it last built when
-    /// the new sharpness is within 10⁻⁴ of it, and `Voice::reset` goes through it, so after
-    /// a sharpness glide a single reset would keep a table built for a slightly different
-    /// value than `Voice::new` builds — the same state would then sound (slightly)
-    /// differently in a restored instance (found by the CLAP host test). The detour forces
-    /// the table to be rebuilt at exactly the target. Real-time safe (no allocation; a
-    /// second series warm-up and mode update, tens of microseconds, only on resets and
-    /// transport starts after silence). Remove it once `Source::reset` rebuilds the table
-    /// unconditionally.
-    fn restart_voice(voice: &mut Voice, dsp: &trundle_dsp::Params) {
-        let sharpness = dsp.get(ParamId::Sharpness);
-        let mut detour = *dsp;
-        detour.set_clamped(
-            ParamId::Sharpness,
-            if sharpness < 4.0 {
-                sharpness + 1.0
-            } else {
-                sharpness - 1.0
-            },
-        );
-        voice.set_params(&detour);
-        voice.reset();
+    /// targets go in first: `Voice::reset` rebuilds the series, pulses (the pulse table at
+    /// exactly the target sharpness) and modes from them, so a seed, preset or state loaded
+    /// since the last block is honoured exactly. Real-time safe.
+    fn restart(voice: &mut Voice, dsp: &trundle_dsp::Params) {
         voice.set_params(dsp);
         voice.reset();
     }
@@ -187,7 +166,7 @@ impl Plugin for Trundle {
     fn reset(&mut self) {
         self.params.to_dsp(&mut self.dsp);
         if let Some(v) = &mut self.voice {
-            Self::restart_voice(v, &self.dsp);
+            Self::restart(v, &self.dsp);
         }
         self.silent_samples = usize::MAX / 2;
         self.rolling = false;
@@ -218,7 +197,7 @@ impl Plugin for Trundle {
         let silence = (RESET_AFTER_SILENCE_S * self.sample_rate) as usize;
         let was_silent = self.silent_samples >= silence;
         if rolling && !self.rolling && was_silent {
-            Self::restart_voice(voice, &self.dsp);
+            Self::restart(voice, &self.dsp);
         }
         self.rolling = rolling;
         voice.set_params(&self.dsp);
@@ -255,54 +234,76 @@ impl Plugin for Trundle {
         }
 
         let step = 1.0 / (BYPASS_FADE_S * self.sample_rate).max(1.0);
-        let mut done = 0;
-        while done < n {
-            // Notes due now start or stop balls; the block is split at the next one.
-            while let Some(ev) = next_event {
-                if ev.timing() as usize > done {
-                    break;
-                }
-                match ev {
-                    NoteEvent::NoteOn { key, velocity, .. } => {
-                        voice.note_on(key.number_or_middle_c(), f64::from(velocity))
-                    }
+        // Notes start or stop balls at their exact samples: the core's event loop splits
+        // the block there (`trundle_dsp::events`).
+        let notes = next_event
+            .into_iter()
+            .chain(std::iter::from_fn(|| context.next_event()))
+            .filter_map(|ev| {
+                let event = match ev {
+                    NoteEvent::NoteOn { key, velocity, .. } => VoiceEvent::NoteOn {
+                        note: key.number_or_middle_c(),
+                        velocity: f64::from(velocity),
+                    },
                     NoteEvent::NoteOff { key, .. } | NoteEvent::Choke { key, .. } => {
-                        voice.note_off(key.number_or_middle_c())
+                        VoiceEvent::NoteOff {
+                            note: key.number_or_middle_c(),
+                        }
                     }
-                    _ => {}
-                }
-                next_event = context.next_event();
-            }
-            let until = next_event.map_or(n, |ev| (ev.timing() as usize).clamp(done + 1, n));
-            let len = (until - done).min(self.mono.len());
+                    _ => return None,
+                };
+                Some(TimedEvent {
+                    offset: ev.timing() as usize,
+                    event,
+                })
+            });
+        let bypass_gain = &mut self.bypass_gain;
+        let silent_samples = &mut self.silent_samples;
+        let tap = &self.tap;
+        let channels = buffer.as_slice();
+        // `mono` holds the host's maximum block; a longer block (a host breaking its own
+        // promise) is rendered in pieces rather than truncated.
+        let mut notes = notes.peekable();
+        let cap = self.mono.len();
+        let mut piece = 0;
+        while piece < n {
+            let len = cap.min(n - piece);
             let mono = &mut self.mono[..len];
-            voice.process(mono);
-            if self.bypass_gain != 1.0 || bypass_target != 1.0 {
-                for x in mono.iter_mut() {
-                    if self.bypass_gain != bypass_target {
-                        self.bypass_gain = if self.bypass_gain < bypass_target {
-                            (self.bypass_gain + step).min(bypass_target)
-                        } else {
-                            (self.bypass_gain - step).max(bypass_target)
-                        };
-                    }
-                    *x *= self.bypass_gain;
+            let due = std::iter::from_fn(|| notes.next_if(|e| e.offset < piece + len)).map(|e| {
+                TimedEvent {
+                    offset: e.offset.saturating_sub(piece),
+                    ..e
                 }
-            }
-            if mono.iter().all(|x| *x == 0.0) {
-                self.silent_samples = self.silent_samples.saturating_add(len);
-            } else {
-                self.silent_samples = 0;
-            }
-            if editor_open {
-                self.tap.push(mono);
-                let (bx, by) = voice.ball_position();
-                self.tap.set_ball(bx as f32, by as f32);
-            }
-            for ch in buffer.as_slice().iter_mut() {
-                ch[done..done + len].copy_from_slice(mono);
-            }
-            done += len;
+            });
+            process_with_events(voice, mono, due, |voice, stretch, at| {
+                let at = piece + at;
+                if *bypass_gain != 1.0 || bypass_target != 1.0 {
+                    for x in stretch.iter_mut() {
+                        if *bypass_gain != bypass_target {
+                            *bypass_gain = if *bypass_gain < bypass_target {
+                                (*bypass_gain + step).min(bypass_target)
+                            } else {
+                                (*bypass_gain - step).max(bypass_target)
+                            };
+                        }
+                        *x *= *bypass_gain;
+                    }
+                }
+                if stretch.iter().all(|x| *x == 0.0) {
+                    *silent_samples = silent_samples.saturating_add(stretch.len());
+                } else {
+                    *silent_samples = 0;
+                }
+                if editor_open {
+                    tap.push(stretch);
+                    let (bx, by) = voice.ball_position();
+                    tap.set_ball(bx as f32, by as f32);
+                }
+                for ch in channels.iter_mut() {
+                    ch[at..at + stretch.len()].copy_from_slice(stretch);
+                }
+            });
+            piece += len;
         }
         ProcessStatus::KeepAlive
     }
@@ -384,7 +385,7 @@ mod tests {
         use trundle_dsp::params::spec_by_key;
         let f = |k: &str, v: f64| spec_by_key(k).unwrap().format(v);
         assert_eq!(f("velocity", 0.35), "0.350 m/s");
-        assert_eq!(f("roughness", 0.5), "50.0 %");
+        assert_eq!(f("roughness", 0.5), "50 %");
         assert_eq!(f("gain_db", -6.0), "-6.0 dB");
         assert_eq!(f("object_size", 1.2), "1.200 m");
         assert_eq!(f("shape", 3.0), "shell");

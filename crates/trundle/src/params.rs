@@ -123,8 +123,10 @@ fn make(spec: &'static ParamSpec) -> TableParam {
                     // Quantized to the text's resolution, so every value reads back exactly.
                     .with_step_size(spec.step() as f32)
                     .with_value_to_string(Arc::new(move |v| spec.format(f64::from(v))))
+                    // Text reads as the value the plugin will hold (on the step grid), so a
+                    // host that sets the value it read back from text sees it unchanged.
                     .with_string_to_value(Arc::new(move |s| {
-                        spec.parse_clamped(s).ok().map(|v| v as f32)
+                        spec.parse_clamped(s).ok().map(|v| spec.quantize(v as f32))
                     })),
             )
         }
