@@ -354,8 +354,15 @@ impl Voice {
             } else {
                 (1.0 - x) * self.sound[i] + x * FORCE_LEVEL * self.force[i]
             };
-            // Last line of defence: never hand a host NaN or infinity.
-            self.sound[i] = if y.is_finite() { g * y } else { 0.0 };
+            // Last line of defence: never hand a host NaN, infinity or a subnormal (the
+            // object's state is flushed, but the force output — a low-pass tail — and a
+            // tiny gain can reach the subnormal range; a validator found −4·10⁻⁴⁰).
+            let o = g * y;
+            self.sound[i] = if o.is_finite() && (o == 0.0 || o.abs() >= f32::MIN_POSITIVE) {
+                o
+            } else {
+                0.0
+            };
         }
     }
 }
