@@ -14,7 +14,7 @@
 //! few impacts) is bad input: one `error: …` line and exit code 2, never a panic.
 
 use crate::error::{input, quote, CliError};
-use crate::render::CSV_HEADER;
+use crate::output::CSV_HEADER;
 use crate::stats::{impacts_of, Series, DEFAULT_THRESHOLD};
 use std::fs;
 use std::path::Path;

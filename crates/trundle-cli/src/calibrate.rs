@@ -26,8 +26,8 @@
 
 use crate::atomic::TempFile;
 use crate::error::{failure, input, quote, CliError};
+use crate::output::check_destination;
 use crate::physics_cmd::{render_force, PhysArgs};
-use crate::render::check_destination;
 use crate::stats::{impacts_of, Series, DEFAULT_THRESHOLD};
 use serde_json::{json, Value};
 use std::io::Write;

@@ -11,7 +11,7 @@
 use crate::atomic::TempFile;
 use crate::decode::read_recording;
 use crate::error::{failure, input, quote, CliError};
-use crate::render::check_destination;
+use crate::output::check_destination;
 use serde_json::json;
 use std::io::Write;
 use std::path::{Path, PathBuf};

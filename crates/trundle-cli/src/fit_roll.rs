@@ -12,7 +12,7 @@
 use crate::decode::read_recording;
 use crate::error::{input, quote, CliError};
 use crate::fit_cmd::write_text;
-use crate::render::check_destination;
+use crate::output::check_destination;
 use crate::stats::{impacts_of, Series, DEFAULT_THRESHOLD};
 use serde_json::json;
 use std::path::PathBuf;

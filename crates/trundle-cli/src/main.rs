@@ -33,6 +33,7 @@ mod fit_cmd;
 mod fit_roll;
 mod level;
 mod list;
+mod output;
 mod physics_cmd;
 mod render;
 mod soak;

@@ -10,7 +10,7 @@
 //! ```
 
 use crate::error::{input, CliError};
-use crate::render::{check_destination, CsvOut, Format, WavOut};
+use crate::output::{check_destination, CsvOut, Format, WavOut};
 use crate::stats::impacts_of;
 use std::path::PathBuf;
 use std::time::Instant;

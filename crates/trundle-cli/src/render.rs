@@ -14,21 +14,25 @@
 //! whole render's peak before the first sample is written, so the render is spooled — in
 //! memory up to [`MEM_SPOOL_SAMPLES`], beyond that to a temporary raw file next to the
 //! output (removed afterwards) — and scaled on the way out. The calibrated path
-//! (`--no-normalize`) streams straight to the WAV.
+//! (`--no-normalize`) streams straight to the WAV. The files themselves are written by
+//! [`crate::output`].
 
-use crate::atomic::{parent_dir, PersistError, TempFile};
-use crate::error::{failure, input, quote, CliError};
-use crate::level::{self, Stats};
-use clap::{Args, ValueEnum};
+use crate::error::{input, quote, CliError};
+use crate::level;
+use crate::output::{
+    check_destination, io_fail, same_path, CsvOut, Format, Spool, WavOut, MEM_SPOOL_SAMPLES,
+    WAV_MAX_DATA_BYTES,
+};
+use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use std::fs::{self, File};
-use std::io::{self, BufReader, BufWriter, IsTerminal, Read, Seek, SeekFrom, Write};
+use std::fs::File;
+use std::io::{self, IsTerminal, Read};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use trundle_dsp::events::{process_with_events, Scene, VoiceEvent};
 use trundle_dsp::params::{spec_by_key, Output, ParamEnum, ParamId};
 use trundle_dsp::preset::{Lane, Preset, DEFAULT_PRESET};
-use trundle_dsp::{ImpactRecord, Params, Voice};
+use trundle_dsp::{Params, Voice};
 
 /// Length of a render unless `--seconds` says otherwise.
 pub const DEFAULT_SECONDS: f64 = 5.0;
@@ -46,59 +50,10 @@ pub const DEFAULT_NORMALIZE_DB: f64 = -1.0;
 pub const MIN_NORMALIZE_DB: f64 = -100.0;
 /// Samples rendered per block (impacts are drained after each).
 pub const BLOCK: usize = 4096;
-/// Renders up to this many samples (64 MB of f32: 5.8 min at 48 kHz) are spooled in
-/// memory for normalization; longer ones go to a temporary file next to the output.
-pub const MEM_SPOOL_SAMPLES: u64 = 1 << 24;
-/// Largest data chunk a WAV file can hold: its RIFF sizes are 32-bit (minus room for the
-/// header). Longer renders are refused up front rather than failing at the end.
-pub const WAV_MAX_DATA_BYTES: u64 = u32::MAX as u64 - 4096;
 /// Largest preset file read (presets are a few hundred bytes; this stops `/dev/zero`).
 pub const MAX_PRESET_BYTES: u64 = 1 << 20;
 /// The summary warns of a DC offset above this fraction of the RMS (−20 dB).
 pub const DC_WARN_RATIO: f64 = 0.1;
-/// Header of the `--impacts` CSV file.
-pub const CSV_HEADER: &str = "time_s,amplitude,duration_s";
-
-/// Sample format of the WAV file.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum Format {
-    /// 24-bit integer PCM.
-    Pcm24,
-    /// 16-bit integer PCM (rounded, not dithered).
-    Pcm16,
-    /// 32-bit IEEE float.
-    F32,
-}
-
-impl Format {
-    fn name(self) -> &'static str {
-        match self {
-            Format::Pcm24 => "pcm24",
-            Format::Pcm16 => "pcm16",
-            Format::F32 => "f32",
-        }
-    }
-    fn bytes_per_sample(self) -> u64 {
-        match self {
-            Format::Pcm24 => 3,
-            Format::Pcm16 => 2,
-            Format::F32 => 4,
-        }
-    }
-    fn spec(self, sample_rate: u32) -> hound::WavSpec {
-        let (bits_per_sample, sample_format) = match self {
-            Format::Pcm24 => (24, hound::SampleFormat::Int),
-            Format::Pcm16 => (16, hound::SampleFormat::Int),
-            Format::F32 => (32, hound::SampleFormat::Float),
-        };
-        hound::WavSpec {
-            channels: 1,
-            sample_rate,
-            bits_per_sample,
-            sample_format,
-        }
-    }
-}
 
 /// Arguments of `trundle render`.
 ///
@@ -442,262 +397,9 @@ pub fn load_preset(arg: &str) -> Result<Preset, CliError> {
     Preset::from_json(&text).map_err(|e| err(e.to_string()))
 }
 
-pub(crate) fn check_destination(
-    path: &Path,
-    option: &str,
-    overwrite: bool,
-) -> Result<(), CliError> {
-    let shown = quote(&path.display().to_string());
-    if path.as_os_str().is_empty() || path.file_name().is_none() {
-        return Err(input(format!("{option} {shown} is not a file name")));
-    }
-    let dir = parent_dir(path);
-    match fs::metadata(dir) {
-        Ok(m) if m.is_dir() => {}
-        _ => {
-            return Err(input(format!(
-                "{option} {shown}: folder {} does not exist",
-                quote(&dir.display().to_string())
-            )))
-        }
-    }
-    match fs::symlink_metadata(path) {
-        Ok(m) if m.is_dir() => Err(input(format!("{option} {shown} is a folder"))),
-        Ok(_) if !overwrite => Err(input(format!(
-            "{option} {shown} already exists (use --force to overwrite it)"
-        ))),
-        _ => Ok(()),
-    }
-}
-
-fn same_path(a: &Path, b: &Path) -> bool {
-    match (std::path::absolute(a), std::path::absolute(b)) {
-        (Ok(a), Ok(b)) => a == b,
-        _ => a == b,
-    }
-}
-
 // ---------------------------------------------------------------------------------------
 // Rendering
 // ---------------------------------------------------------------------------------------
-
-fn io_fail(what: &str, path: &Path, e: impl std::fmt::Display) -> CliError {
-    failure(format!(
-        "{what} {}: {e}",
-        quote(&path.display().to_string())
-    ))
-}
-
-/// The WAV being written, under a temporary name until [`WavOut::finish`].
-pub(crate) struct WavOut {
-    tmp: TempFile,
-    sync: File,
-    writer: hound::WavWriter<BufWriter<File>>,
-    format: Format,
-    stats: Stats,
-}
-
-impl WavOut {
-    pub(crate) fn create(dest: &Path, format: Format, sample_rate: u32) -> Result<Self, CliError> {
-        let (tmp, file) = TempFile::create_beside(dest, "tmp")
-            .map_err(|e| io_fail("cannot create a temporary file beside", dest, e))?;
-        let sync = file
-            .try_clone()
-            .map_err(|e| io_fail("cannot write", tmp.path(), e))?;
-        let writer = hound::WavWriter::new(BufWriter::new(file), format.spec(sample_rate))
-            .map_err(|e| io_fail("cannot write", tmp.path(), e))?;
-        Ok(Self {
-            tmp,
-            sync,
-            writer,
-            format,
-            stats: Stats::default(),
-        })
-    }
-
-    /// Write one sample in [−1, 1] (quantized to the format).
-    #[inline]
-    pub(crate) fn write(&mut self, x: f64) -> Result<(), hound::Error> {
-        match self.format {
-            Format::Pcm24 => {
-                let q = level::quantize(x, level::PCM24_MAX);
-                self.stats.add(f64::from(q) / level::PCM24_MAX);
-                self.writer.write_sample(q)
-            }
-            Format::Pcm16 => {
-                let q = level::quantize(x, level::PCM16_MAX) as i16;
-                self.stats.add(f64::from(q) / level::PCM16_MAX);
-                self.writer.write_sample(q)
-            }
-            Format::F32 => {
-                let v = x as f32;
-                self.stats.add(f64::from(v));
-                self.writer.write_sample(v)
-            }
-        }
-    }
-
-    pub(crate) fn finish(self, dest: &Path, overwrite: bool) -> Result<Stats, CliError> {
-        let WavOut {
-            tmp,
-            sync,
-            writer,
-            stats,
-            ..
-        } = self;
-        writer
-            .finalize()
-            .map_err(|e| io_fail("cannot write", tmp.path(), e))?;
-        sync.sync_all()
-            .map_err(|e| io_fail("cannot write", tmp.path(), e))?;
-        drop(sync);
-        persist(tmp, dest, overwrite, "--output")?;
-        Ok(stats)
-    }
-}
-
-fn persist(tmp: TempFile, dest: &Path, overwrite: bool, option: &str) -> Result<(), CliError> {
-    tmp.persist(dest, overwrite).map_err(|e| match e {
-        PersistError::Exists => input(format!(
-            "{option} {} appeared while rendering; it was left untouched (use --force to overwrite it)",
-            quote(&dest.display().to_string())
-        )),
-        PersistError::Io(e) => io_fail("cannot move the finished file to", dest, e),
-    })
-}
-
-/// The impact list being written.
-pub(crate) struct CsvOut {
-    tmp: TempFile,
-    writer: BufWriter<File>,
-    error: Option<io::Error>,
-}
-
-impl CsvOut {
-    pub(crate) fn create(dest: &Path) -> Result<Self, CliError> {
-        let (tmp, file) = TempFile::create_beside(dest, "tmp")
-            .map_err(|e| io_fail("cannot create a temporary file beside", dest, e))?;
-        let mut writer = BufWriter::new(file);
-        writeln!(writer, "{CSV_HEADER}").map_err(|e| io_fail("cannot write", tmp.path(), e))?;
-        Ok(Self {
-            tmp,
-            writer,
-            error: None,
-        })
-    }
-
-    /// Append one row (f64 `Display` is the shortest text that reads back exactly, and
-    /// never uses exponent notation). The first I/O error is kept for [`CsvOut::check`].
-    pub(crate) fn row(&mut self, r: &ImpactRecord) {
-        if self.error.is_none() {
-            if let Err(e) = writeln!(self.writer, "{},{},{}", r.time_s, r.amplitude, r.duration_s) {
-                self.error = Some(e);
-            }
-        }
-    }
-
-    fn check(&mut self) -> Result<(), CliError> {
-        match self.error.take() {
-            Some(e) => Err(io_fail("cannot write", self.tmp.path(), e)),
-            None => Ok(()),
-        }
-    }
-
-    pub(crate) fn finish(mut self, dest: &Path, overwrite: bool) -> Result<(), CliError> {
-        self.check()?;
-        let CsvOut { tmp, writer, .. } = self;
-        let file = writer
-            .into_inner()
-            .map_err(|e| io_fail("cannot write", tmp.path(), e.error()))?;
-        file.sync_all()
-            .map_err(|e| io_fail("cannot write", tmp.path(), e))?;
-        drop(file);
-        persist(tmp, dest, overwrite, "--impacts")
-    }
-}
-
-/// The whole render, kept for normalization: in memory, or in a raw f32 file.
-enum Spool {
-    Memory(Vec<f32>),
-    Disk {
-        tmp: TempFile,
-        writer: BufWriter<File>,
-    },
-}
-
-impl Spool {
-    /// A spool for `frames` samples: in memory up to `memory_limit` samples, else a
-    /// temporary file beside `dest`.
-    fn new(frames: u64, memory_limit: u64, dest: &Path) -> Result<Self, CliError> {
-        if frames <= memory_limit {
-            return Ok(Spool::Memory(Vec::with_capacity(frames as usize)));
-        }
-        let (tmp, file) = TempFile::create_beside(dest, "spool")
-            .map_err(|e| io_fail("cannot create a temporary file beside", dest, e))?;
-        Ok(Spool::Disk {
-            tmp,
-            writer: BufWriter::with_capacity(1 << 20, file),
-        })
-    }
-
-    fn push(&mut self, block: &[f32]) -> Result<(), CliError> {
-        match self {
-            Spool::Memory(v) => {
-                v.extend_from_slice(block);
-                Ok(())
-            }
-            Spool::Disk { tmp, writer } => {
-                let mut bytes = [0u8; BLOCK * 4];
-                for (chunk, x) in bytes.chunks_exact_mut(4).zip(block) {
-                    chunk.copy_from_slice(&x.to_le_bytes());
-                }
-                writer
-                    .write_all(&bytes[..block.len() * 4])
-                    .map_err(|e| io_fail("cannot write", tmp.path(), e))
-            }
-        }
-    }
-
-    /// Hand the spooled samples back, in order, block by block.
-    fn replay(self, mut f: impl FnMut(&[f32]) -> Result<(), CliError>) -> Result<(), CliError> {
-        match self {
-            Spool::Memory(v) => {
-                for block in v.chunks(BLOCK) {
-                    f(block)?;
-                }
-                Ok(())
-            }
-            Spool::Disk { tmp, writer } => {
-                let mut file = writer
-                    .into_inner()
-                    .map_err(|e| io_fail("cannot write", tmp.path(), e.error()))?;
-                file.seek(SeekFrom::Start(0))
-                    .map_err(|e| io_fail("cannot read", tmp.path(), e))?;
-                let len = file
-                    .metadata()
-                    .map_err(|e| io_fail("cannot read", tmp.path(), e))?
-                    .len();
-                let mut reader = BufReader::with_capacity(1 << 20, file);
-                let mut bytes = [0u8; BLOCK * 4];
-                let mut samples = [0f32; BLOCK];
-                let mut left = len / 4;
-                while left > 0 {
-                    let n = (left as usize).min(BLOCK);
-                    reader
-                        .read_exact(&mut bytes[..n * 4])
-                        .map_err(|e| io_fail("cannot read", tmp.path(), e))?;
-                    for (x, chunk) in samples.iter_mut().zip(bytes[..n * 4].chunks_exact(4)) {
-                        *x = f32::from_le_bytes([chunk[0], chunk[1], chunk[2], chunk[3]]);
-                    }
-                    f(&samples[..n])?;
-                    left -= n as u64;
-                }
-                drop(tmp);
-                Ok(())
-            }
-        }
-    }
-}
 
 /// The progress bar: drawn on stderr, only when stderr is a terminal, and only for
 /// renders longer than a moment (more than [`PROGRESS_AUDIO_S`] of audio, or a projected
@@ -984,37 +686,6 @@ mod tests {
             assert!(parse_normalize_db(bad).is_err(), "{bad}");
         }
         assert_eq!(parse_normalize_db("-6").unwrap(), -6.0);
-    }
-
-    #[test]
-    fn disk_spool_replays_exactly_what_memory_spool_does() {
-        let dir = std::env::temp_dir().join(format!("trundle-spool-{}", std::process::id()));
-        fs::create_dir_all(&dir).unwrap();
-        let dest = dir.join("out.wav");
-        let signal: Vec<f32> = (0..3 * BLOCK + 123)
-            .map(|i| ((i as f32) * 0.013).sin() * 0.7 + f32::MIN_POSITIVE)
-            .collect();
-        let mut outs = Vec::new();
-        for limit in [u64::MAX, 0] {
-            let mut spool = Spool::new(signal.len() as u64, limit, &dest).unwrap();
-            assert_eq!(matches!(spool, Spool::Disk { .. }), limit == 0);
-            for block in signal.chunks(1000) {
-                spool.push(block).unwrap();
-            }
-            let mut back = Vec::new();
-            spool
-                .replay(|b| {
-                    assert!(b.len() <= BLOCK);
-                    back.extend_from_slice(b);
-                    Ok(())
-                })
-                .unwrap();
-            outs.push(back);
-        }
-        assert_eq!(outs[0], signal);
-        assert_eq!(outs[1], signal);
-        assert_eq!(fs::read_dir(&dir).unwrap().count(), 0, "spool file removed");
-        fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]
