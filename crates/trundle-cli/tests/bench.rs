@@ -3,7 +3,8 @@
 
 use std::process::Command;
 
-const BIN: &str = env!("CARGO_BIN_EXE_trundle");
+mod common;
+use common::BIN;
 
 #[test]
 fn bench_json_has_every_timing() {

@@ -7,63 +7,15 @@
 use std::collections::BTreeMap;
 use std::fs;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 use trundle_dsp::preset::BUILTIN_PRESETS;
 use trundle_dsp::PARAMS;
 
-const BIN: &str = env!("CARGO_BIN_EXE_trundle");
+mod common;
+use common::{ok, read_wav, run, stderr, stdout};
 
 /// A fresh, empty scratch folder for one test.
 fn scratch(name: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("trundle-cli-tests")
-        .join(name);
-    let _ = fs::remove_dir_all(&d);
-    fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn run(dir: &Path, args: &[&str]) -> Output {
-    Command::new(BIN)
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the trundle binary runs")
-}
-
-fn stdout(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-/// Run and require success; returns stdout.
-fn ok(dir: &Path, args: &[&str]) -> String {
-    let o = run(dir, args);
-    assert!(
-        o.status.success(),
-        "trundle {args:?} failed: {}",
-        stderr(&o)
-    );
-    stdout(&o)
-}
-
-/// Samples scaled to ±1 full scale, and the spec.
-fn read_wav(path: &Path) -> (hound::WavSpec, Vec<f64>) {
-    let mut r = hound::WavReader::open(path).unwrap_or_else(|e| panic!("{path:?}: {e}"));
-    let spec = r.spec();
-    let samples = match spec.sample_format {
-        hound::SampleFormat::Float => r.samples::<f32>().map(|s| f64::from(s.unwrap())).collect(),
-        hound::SampleFormat::Int => {
-            let full = f64::from((1u32 << (spec.bits_per_sample - 1)) - 1);
-            r.samples::<i32>()
-                .map(|s| f64::from(s.unwrap()) / full)
-                .collect()
-        }
-    };
-    (spec, samples)
+    common::scratch("trundle-cli-tests", name)
 }
 
 fn peak_db(x: &[f64]) -> f64 {

@@ -6,19 +6,16 @@ use serde_json::Value;
 use std::f64::consts::TAU;
 use std::fs;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
-const BIN: &str = env!("CARGO_BIN_EXE_trundle");
+mod common;
 
 fn scratch(name: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("fit-{name}"));
-    let _ = fs::remove_dir_all(&d);
-    fs::create_dir_all(&d).unwrap();
-    d
+    common::scratch("trundle-fit-tests", name)
 }
 
 fn run(args: &[&str]) -> Output {
-    Command::new(BIN).args(args).output().expect("trundle runs")
+    common::run(Path::new("."), args)
 }
 
 fn write_wav(path: &Path, fs_hz: u32, channels: u16, frames: &[f64]) {

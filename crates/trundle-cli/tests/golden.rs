@@ -24,7 +24,8 @@ use std::process::Command;
 use trundle_dsp::modal::Kernel;
 use trundle_dsp::preset::BUILTIN_PRESETS;
 
-const BIN: &str = env!("CARGO_BIN_EXE_trundle");
+mod common;
+use common::BIN;
 const GOLDEN: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/golden_hashes.txt");
 
 /// FNV-1a, 64 bit: enough to tell any change of a sample from none.
@@ -38,10 +39,7 @@ fn fnv1a(bytes: &[u8]) -> u64 {
 }
 
 fn scratch() -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join("trundle-golden");
-    let _ = fs::remove_dir_all(&d);
-    fs::create_dir_all(&d).unwrap();
-    d
+    common::scratch("trundle-golden", "renders")
 }
 
 /// Hash of the sample data of one render (the WAV's `data` chunk only, so a header change

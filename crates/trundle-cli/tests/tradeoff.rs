@@ -6,7 +6,8 @@
 use std::path::Path;
 use std::process::Command;
 
-const BIN: &str = env!("CARGO_BIN_EXE_trundle");
+mod common;
+use common::BIN;
 
 #[test]
 fn tradeoff_json_has_cost_and_both_distances_for_every_row() {
