@@ -10,7 +10,7 @@
 use crate::error::{input, CliError};
 use crate::render::load_preset;
 use std::time::Instant;
-use trundle_dsp::{ParamId, Params, Voice};
+use trundle_dsp::{Params, Voice};
 
 /// Arguments of `trundle soak`.
 #[derive(clap::Args, Debug)]
@@ -24,24 +24,6 @@ pub struct SoakArgs {
     /// A preset (built-in name or .json path) instead of the extreme scene.
     #[arg(long)]
     preset: Option<String>,
-}
-
-/// The extreme scene: highest Q, lowest frequency, full speed, full asymmetry.
-fn extreme() -> Params {
-    let mut p = Params::default();
-    for (id, v) in [
-        (ParamId::MaterialX, -0.5),
-        (ParamId::MaterialY, 0.866),
-        (ParamId::Decay, 30.0),
-        (ParamId::ObjectSize, 5.0),
-        (ParamId::Modes, 256.0),
-        (ParamId::Shape, 0.0),
-        (ParamId::Velocity, 1.0),
-        (ParamId::Asymmetry, 1.0),
-    ] {
-        p.set(id, v).expect("the extreme scene is inside the table");
-    }
-    p
 }
 
 /// Run the soak; returns the summary line.
@@ -60,7 +42,7 @@ pub fn run(args: &SoakArgs) -> Result<String, CliError> {
     }
     let params = match &args.preset {
         Some(p) => load_preset(p)?.params,
-        None => extreme(),
+        None => Params::extreme(),
     };
     let fs = f64::from(args.sample_rate);
     let mut voice = Voice::new(fs, &params);

@@ -887,6 +887,28 @@ impl Params {
     pub fn asymmetry_law(&self) -> crate::modulation::AsymmetryLaw {
         self.variant()
     }
+    /// The hardest steady scene the table allows, for soak tests (`trundle soak`,
+    /// `tests/soak.rs`): the longest-ringing material (between metal and glass on the disk),
+    /// decay ×30 (modes ring up to the 60 s bound), the largest object (20 Hz first mode),
+    /// every mode (256) of the densest low series (string), the fastest, most asymmetric
+    /// ball. A test that cannot afford 256 modes lowers `modes` itself, visibly.
+    pub fn extreme() -> Params {
+        let mut p = Params::default();
+        for (id, v) in [
+            (ParamId::MaterialX, -0.5),
+            (ParamId::MaterialY, 0.866),
+            (ParamId::Decay, 30.0),
+            (ParamId::ObjectSize, 5.0),
+            (ParamId::Modes, 256.0),
+            (ParamId::Shape, 0.0),
+            (ParamId::Velocity, 1.0),
+            (ParamId::Asymmetry, 1.0),
+        ] {
+            p.set(id, v).expect("the extreme scene is inside the table");
+        }
+        p
+    }
+
     /// Iterate over `(spec, value)`.
     pub fn iter(&self) -> impl Iterator<Item = (&'static ParamSpec, f64)> + '_ {
         PARAMS.iter().zip(self.values.iter().copied())
