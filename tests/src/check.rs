@@ -1,6 +1,6 @@
 //! Helpers shared by the host tests (`tests/clap_host.rs`, `tests/strict_host.rs`).
 
-use crate::{bundle, clap_param_id, Bundle, Instance};
+use crate::{bundle, clap_param_id, Block, Bundle, Instance};
 use clack_host::prelude::ClapId;
 
 /// The CLAP ID nice-plug gives the parameter with stable key `key`.
@@ -36,4 +36,21 @@ pub fn rms(x: &[f32]) -> f64 {
         return 0.0;
     }
     (x.iter().map(|v| f64::from(*v) * f64::from(*v)).sum::<f64>() / x.len() as f64).sqrt()
+}
+
+/// The first index from which `a` and `b` differ bit for bit, if any.
+pub fn first_difference(a: &[f32], b: &[f32]) -> Option<usize> {
+    assert_eq!(a.len(), b.len(), "lengths differ");
+    a.iter()
+        .zip(b)
+        .position(|(x, y)| x.to_bits() != y.to_bits())
+}
+
+/// Render (panicking on host errors, non-finite or unwritten samples: see
+/// [`Instance::render`]) and require both channels to be identical bit for bit (the plugin
+/// plays one mono voice to both); returns one channel.
+pub fn render(inst: &mut Instance, blocks: &[Block]) -> Vec<f32> {
+    let [l, r] = inst.render(blocks).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(first_difference(&l, &r), None, "left and right differ");
+    l
 }

@@ -17,7 +17,9 @@ use trundle_tests::{bundle, Block, Instance, ParamDesc, Transport};
 
 use clack_extensions::params::ParamInfoFlags;
 use clack_host::prelude::ClapId;
-use trundle_tests::check::{id, load_bundle, new_instance, peak, plain, rms};
+use trundle_tests::check::{
+    first_difference, id, load_bundle, new_instance, peak, plain, render, rms,
+};
 
 /// The lowest RMS any 250 ms window of a rolling ball may have in these tests: −60 dBFS.
 ///
@@ -145,25 +147,8 @@ fn automation(
     events
 }
 
-fn render(inst: &mut Instance, blocks: &[Block]) -> Vec<f32> {
-    let [l, r] = inst.render(blocks).unwrap_or_else(|e| panic!("{e}"));
-    assert!(
-        l.iter().zip(&r).all(|(a, b)| a.to_bits() == b.to_bits()),
-        "left and right differ"
-    );
-    l
-}
-
 fn plain_blocks(rng: &mut SmallRng, total: usize, transport: Transport) -> Vec<Block> {
     blocks(rng, total, 2048, &[], transport)
-}
-
-/// The first index from which `a` and `b` differ, if any.
-fn first_difference(a: &[f32], b: &[f32]) -> Option<usize> {
-    assert_eq!(a.len(), b.len());
-    a.iter()
-        .zip(b)
-        .position(|(x, y)| x.to_bits() != y.to_bits())
 }
 
 /// Whether a 64-bit little-endian ELF file has `DF_1_NODELETE` in its dynamic section.

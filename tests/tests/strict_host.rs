@@ -10,7 +10,9 @@
 use clack_host::prelude::ClapId;
 use rand::rngs::SmallRng;
 use rand::{Rng, SeedableRng};
-use trundle_tests::check::{id, load_bundle, new_instance, peak, plain, rms};
+use trundle_tests::check::{
+    first_difference, id, load_bundle, new_instance, peak, plain, render, rms,
+};
 use trundle_tests::{Block, Bundle, Instance, Transport};
 
 /// −60 dBFS: the level a rolling ball stays far above at the defaults (about −26 dBFS; see
@@ -18,22 +20,6 @@ use trundle_tests::{Block, Bundle, Instance, Transport};
 const LEVEL_FLOOR_RMS: f64 = 1.0e-3;
 /// A stable plugin stays far below this on every sample (as in `clap_host.rs`).
 const PEAK_LIMIT: f32 = 16.0;
-
-/// The first index from which `a` and `b` differ, if any.
-fn first_difference(a: &[f32], b: &[f32]) -> Option<usize> {
-    assert_eq!(a.len(), b.len(), "lengths differ");
-    a.iter()
-        .zip(b)
-        .position(|(x, y)| x.to_bits() != y.to_bits())
-}
-
-/// Render (panicking on host errors, non-finite or unwritten samples) and require both
-/// channels to be identical (the plugin is mono in stereo).
-fn render(inst: &mut Instance, blocks: &[Block]) -> Vec<f32> {
-    let [l, r] = inst.render(blocks).unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(first_difference(&l, &r), None, "left and right differ");
-    l
-}
 
 /// `total` samples in blocks of random sizes in 1..=`max_block`, transport playing; the
 /// `first` events go to offset 0 of the first block.
