@@ -1,0 +1,385 @@
+//! The editor (nice-plug-egui): the action and material disks, the ball's position on the
+//! object, a live spectrum, rotary knobs and selectors for the ball, the object and the
+//! output, and a preset menu.
+//!
+//! ```text
+//! ┌ TRUNDLE  rolling · rubbing · scratching          ◀ [preset ▾] ▶   (BYPASS) ┐
+//! ├ ACTION ──────┬ MATERIAL ────┬ POSITION ─────┬ OUTPUT SPECTRUM ────────────┤
+//! │ rub·scratch· │ wood·metal·  │ ball + ear on │ log frequency, dBFS grid    │
+//! │ roll disk    │ glass disk   │ the object,   │                             │
+//! │              │              │ trajectory,   │                             │
+//! │              │              │ amount        │                             │
+//! ├ BALL ───────────────────────┬ OBJECT ───────────────┬ OUTPUT ─────────────┤
+//! │ five knobs + engine, AM law │ three knobs + shape   │ gain + output, run, │
+//! │                             │                       │ seed                │
+//! └ hints ─────────────────────────────────────────────── version · API · rate ┘
+//! ```
+//!
+//! * Every rectangle is a fixed fraction of the window and every size (fonts, strokes,
+//!   radii) is multiplied by one scale factor, `min(width / 880, height / 600)`, so the
+//!   editor scales as the host resizes it and keeps its proportions.
+//! * Every change goes through nice-plug's `ParamSetter` with begin/set/end gestures (see
+//!   `editor/widgets.rs`), so host automation recording works.
+//! * Table rows added after this layout was drawn are not lost: they appear with generic
+//!   controls on a second page ("MORE") until they get a designed place.
+//! * The spectrum is computed here, on the GUI thread, from the audio thread's lock-free
+//!   [`SpectrumTap`] — only while the window is open, with buffers allocated once (the
+//!   one per-frame allocation is the shape handed to egui, which takes ownership of it).
+
+mod disks;
+mod header;
+mod layout;
+mod panels;
+mod theme;
+mod widgets;
+
+use layout::*;
+use theme::*;
+
+use crate::params::{TableParam, TrundleParams};
+use crate::spectrum::{SpectrumAnalyzer, SpectrumTap, COLUMNS, F_LO_HZ};
+use egui::{Align2, Color32, FontId, Id, Pos2, Rect, Sense, Stroke, UiBuilder, Vec2};
+use nice_plug::context::gui::GuiContext;
+use nice_plug::editor::SizeConstraints;
+use nice_plug::prelude::*;
+use nice_plug_egui::{create_egui_editor, EguiEditor, EguiNiceSettings, NiceEguiApp};
+use std::sync::Arc;
+use trundle_dsp::preset::{Preset, BUILTIN_PRESETS};
+use trundle_dsp::{ParamId, PARAMS};
+
+/// The design size (logical points): at this size the scale factor is 1.
+const DESIGN_W: f32 = 880.0;
+const DESIGN_H: f32 = 600.0;
+/// The smallest window the editor lays out cleanly in.
+const MIN_W: f32 = 660.0;
+const MIN_H: f32 = 450.0;
+
+// The palette: a dark graphite body, one warm accent, the three material colours.
+/// The editor application.
+pub struct TrundleEditor {
+    params: Arc<TrundleParams>,
+    tap: Arc<SpectrumTap>,
+    gui: Option<GuiContext>,
+    analyzer: SpectrumAnalyzer,
+    presets: Vec<Preset>,
+    /// The preset last loaded from the menu (an index into `presets`).
+    loaded: Option<usize>,
+    /// The scale the egui style was last sized for.
+    styled_scale: f32,
+    /// Table rows this editor has no designed place for (rows added to the table after the
+    /// editor was drawn); they get generic controls on a second page.
+    extra: Vec<ParamId>,
+    /// Showing the second page.
+    more: bool,
+}
+
+/// The table rows with a designed control (typed: a renamed or removed row fails to compile).
+const PLACED: [ParamId; 24] = [
+    ParamId::Size,
+    ParamId::Velocity,
+    ParamId::Roughness,
+    ParamId::Asymmetry,
+    ParamId::Sharpness,
+    ParamId::MaterialX,
+    ParamId::MaterialY,
+    ParamId::ObjectSize,
+    ParamId::Shape,
+    ParamId::Modes,
+    ParamId::Decay,
+    ParamId::GainDb,
+    ParamId::Seed,
+    ParamId::Output,
+    ParamId::ActionX,
+    ParamId::ActionY,
+    ParamId::AsymmetryLaw,
+    ParamId::Engine,
+    ParamId::PositionX,
+    ParamId::PositionY,
+    ParamId::ListenX,
+    ParamId::ListenY,
+    ParamId::Comb,
+    ParamId::Trajectory,
+];
+
+/// Build the editor for the plugin.
+///
+/// # Allocation
+/// Allocates the spectrum analyser and parses the built-in presets; called by the wrapper on
+/// the main thread, never on the audio thread.
+pub fn create(
+    params: Arc<TrundleParams>,
+    tap: Arc<SpectrumTap>,
+) -> Option<EguiEditor<TrundleEditor>> {
+    let presets = BUILTIN_PRESETS
+        .iter()
+        .filter_map(|(_, json)| Preset::from_json(json).ok())
+        .collect();
+    let app = TrundleEditor {
+        params: params.clone(),
+        tap,
+        gui: None,
+        analyzer: SpectrumAnalyzer::new(),
+        presets,
+        loaded: None,
+        styled_scale: 0.0,
+        extra: PARAMS
+            .iter()
+            .filter(|spec| !PLACED.contains(&spec.id))
+            .map(|spec| spec.id)
+            .collect(),
+        more: false,
+    };
+    let settings = EguiNiceSettings {
+        title: "Trundle".into(),
+        resize_hint: ResizeHint {
+            can_resize: true,
+            can_resize_horizontally: true,
+            can_resize_vertically: true,
+            size_constraints: SizeConstraints::min_logical_size(
+                nice_plug::editor::dpi::LogicalSize::new(MIN_W, MIN_H),
+            ),
+            ..ResizeHint::default()
+        },
+        ..EguiNiceSettings::default()
+    };
+    create_egui_editor(
+        params.editor_state.clone(),
+        nice_plug_egui::RepaintNotifier::new(),
+        settings,
+        app,
+    )
+}
+
+impl NiceEguiApp for TrundleEditor {
+    fn build(
+        &mut self,
+        egui_ctx: egui::Context,
+        nice_gui_ctx: GuiContext,
+        _frame: &mut nice_plug_egui::Frame,
+    ) -> Result<(), nice_plug_egui::baseview::HandlerError> {
+        let mut visuals = egui::Visuals::dark();
+        visuals.panel_fill = BG;
+        visuals.window_fill = PANEL;
+        visuals.window_stroke = Stroke::new(1.0, BORDER);
+        visuals.extreme_bg_color = WELL;
+        visuals.selection.bg_fill = ACCENT;
+        visuals.selection.stroke = Stroke::new(1.0, ON_ACCENT);
+        visuals.widgets.inactive.bg_fill = WELL;
+        visuals.widgets.inactive.weak_bg_fill = WELL;
+        visuals.widgets.inactive.bg_stroke = Stroke::new(1.0, BORDER);
+        visuals.widgets.inactive.fg_stroke = Stroke::new(1.0, TEXT);
+        visuals.widgets.hovered.bg_fill = WELL_HI;
+        visuals.widgets.hovered.weak_bg_fill = WELL_HI;
+        visuals.widgets.hovered.fg_stroke = Stroke::new(1.0, TEXT);
+        visuals.widgets.active.weak_bg_fill = WELL_HI;
+        visuals.widgets.open.weak_bg_fill = WELL_HI;
+        visuals.widgets.noninteractive.fg_stroke = Stroke::new(1.0, TEXT);
+        egui_ctx.set_visuals(visuals);
+        self.styled_scale = 0.0;
+        self.gui = Some(nice_gui_ctx);
+        Ok(())
+    }
+
+    fn editor_closed(&mut self) {
+        self.gui = None;
+    }
+
+    fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut nice_plug_egui::Frame) {
+        let Some(gui) = self.gui.clone() else {
+            return;
+        };
+        let setter = gui.param_setter();
+        ui.ctx().request_repaint();
+
+        let full = ui.max_rect();
+        let s = scale_for(full.size());
+        if (s - self.styled_scale).abs() > 1e-3 {
+            self.style_for_scale(ui.ctx(), s);
+        }
+        let t = Theme::new(s);
+        let l = Layout::new(full, s, !self.extra.is_empty());
+        ui.painter().rect_filled(full, 0.0, BG);
+
+        self.header(ui, l.header, &setter, &t);
+
+        let body = panel(ui, l.action, "ACTION", None, &t);
+        self.action_disk(ui, body, &setter, &t);
+        let body = panel(ui, l.material, "MATERIAL", None, &t);
+        self.material_disk(ui, body, &setter, &t);
+        let body = panel(ui, l.position, "POSITION", None, &t);
+        self.position_panel(ui, body, &setter, &t);
+        let body = panel(ui, l.spectrum, "OUTPUT SPECTRUM", Some("dBFS"), &t);
+        self.spectrum(ui, body, &t);
+
+        if !self.extra.is_empty() {
+            self.page_tabs(ui, l.tabs, &t);
+        }
+        if self.more {
+            let body = panel(
+                ui,
+                l.bottom,
+                "MORE",
+                Some("controls without a designed place yet"),
+                &t,
+            );
+            self.extra_controls(ui, body, &setter, &t);
+            self.footer(ui, l.footer, &gui, &t);
+            return;
+        }
+
+        let body = panel(ui, l.ball, "BALL", None, &t);
+        let (knobs, side) = split_side(body, 5, 1.35);
+        let band = self.knob_row(
+            ui,
+            knobs,
+            &setter,
+            &t,
+            &[
+                (ParamId::Size, "Size"),
+                (ParamId::Velocity, "Velocity"),
+                (ParamId::Roughness, "Roughness"),
+                (ParamId::Asymmetry, "Asymmetry"),
+                (ParamId::Sharpness, "Sharpness"),
+            ],
+        );
+        // The side column: the engine and the AM law, two two-way selectors, stacked and
+        // centred on the knobs.
+        let row_h = 1.5 * t.font_small + 2.0 * 1.8 * t.font_small;
+        let gap = 0.8 * t.font_small;
+        let stack_h = (2.0 * row_h + gap).min(side.height());
+        let top = (band.center().y - 0.5 * stack_h)
+            .max(side.top())
+            .min(side.bottom() - stack_h);
+        for (i, (id, name)) in [
+            (ParamId::Engine, "Engine"),
+            (ParamId::AsymmetryLaw, "AM law"),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            if let TableParam::Int(p) = self.params.get(id) {
+                let y = top + i as f32 * (row_h + gap);
+                let column = Rect::from_x_y_ranges(side.x_range(), y..=y + row_h);
+                let (label, control) = labelled(column, &t);
+                widgets::caption(ui, label.center_top(), Align2::CENTER_TOP, name, &t);
+                widgets::selector(ui, control, p, &setter, true, id.spec().doc, &t);
+            }
+        }
+
+        let body = panel(ui, l.object, "OBJECT", None, &t);
+        let (knobs, side) = split_side(body, 3, 1.4);
+        let band = self.knob_row(
+            ui,
+            knobs,
+            &setter,
+            &t,
+            &[
+                (ParamId::ObjectSize, "Size"),
+                (ParamId::Modes, "Modes"),
+                (ParamId::Decay, "Decay"),
+            ],
+        );
+        if let TableParam::Int(p) = self.params.get(ParamId::Shape) {
+            let column = side_column(side, band, 4, &t);
+            let (label, control) = labelled(column, &t);
+            widgets::caption(ui, label.center_top(), Align2::CENTER_TOP, "Shape", &t);
+            widgets::selector(ui, control, p, &setter, true, ParamId::Shape.spec().doc, &t);
+        }
+
+        let body = panel(ui, l.output, "OUTPUT", None, &t);
+        let (knobs, side) = split_side(body, 1, 2.5);
+        self.knob_row(ui, knobs, &setter, &t, &[(ParamId::GainDb, "Gain")]);
+        self.output_stack(ui, side, &setter, &t);
+
+        self.footer(ui, l.footer, &gui, &t);
+    }
+}
+
+/// The scale factor for a window of `size` points: 1 at the design size, proportional to
+/// the tighter of width and height.
+fn scale_for(size: Vec2) -> f32 {
+    (size.x / DESIGN_W).min(size.y / DESIGN_H).clamp(0.5, 4.0)
+}
+
+/// Whether table row `id` is an enumeration.
+fn is_enum(id: ParamId) -> bool {
+    matches!(id.spec().kind, trundle_dsp::params::ParamKind::Enum(_))
+}
+
+/// `a` moved towards `b` by `k` (0…1), opaque.
+fn lerp_colour(a: Color32, b: Color32, k: f32) -> Color32 {
+    let m = |x: u8, y: u8| (f32::from(x) + k * (f32::from(y) - f32::from(x))).round() as u8;
+    Color32::from_rgb(m(a.r(), b.r()), m(a.g(), b.g()), m(a.b(), b.b()))
+}
+
+/// SplitMix64: scrambles a seed into an unrelated one.
+fn splitmix(x: u64) -> u64 {
+    let mut z = x.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sections_stay_inside_the_window_and_never_overlap() {
+        let sizes = [
+            (MIN_W, MIN_H),
+            (DESIGN_W, DESIGN_H),
+            (1_320.0, 900.0),
+            (1_600.0, 560.0),
+            (700.0, 1_000.0),
+        ];
+        for (w, h) in sizes {
+            for tabs in [false, true] {
+                let full = Rect::from_min_size(Pos2::ZERO, Vec2::new(w, h));
+                let l = Layout::new(full, scale_for(full.size()), tabs);
+                let mut rects = vec![
+                    l.header, l.action, l.material, l.spectrum, l.ball, l.object, l.output,
+                    l.footer,
+                ];
+                if tabs {
+                    rects.push(l.tabs);
+                }
+                for (i, a) in rects.iter().enumerate() {
+                    assert!(a.width() > 0.0 && a.height() > 0.0, "{w}x{h}: empty {a:?}");
+                    assert!(full.contains_rect(*a), "{w}x{h}: {a:?} outside");
+                    for b in &rects[i + 1..] {
+                        assert!(
+                            !a.shrink(0.5).intersects(b.shrink(0.5)),
+                            "{w}x{h}: {a:?} overlaps {b:?}"
+                        );
+                    }
+                }
+                assert!(full.contains_rect(l.bottom));
+                for r in [l.ball, l.object, l.output] {
+                    assert!(l.bottom.expand(0.5).contains_rect(r));
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn every_table_row_has_a_control() {
+        // Each row is either placed by a panel or listed under "more", never both, never
+        // neither: a panel cannot silently draw nothing for a row.
+        for spec in trundle_dsp::PARAMS.iter() {
+            let placed = PLACED.iter().filter(|&&id| id == spec.id).count();
+            assert!(placed <= 1, "'{}' placed twice", spec.key);
+        }
+    }
+
+    #[test]
+    fn a_new_seed_is_a_valid_seed() {
+        let mut seed = 1u64;
+        for _ in 0..1_000 {
+            let next = splitmix(seed) & 0x7fff_ffff;
+            assert_ne!(next, seed);
+            assert!(next <= i32::MAX as u64);
+            seed = next;
+        }
+    }
+}

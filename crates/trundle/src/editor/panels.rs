@@ -1,0 +1,266 @@
+//! The knob panels (ball, object, output), the generic controls of the "more" page, and the
+//! live spectrum.
+
+use super::*;
+
+impl TrundleEditor {
+    /// Size egui's own text styles and spacing (combo box, tooltips) for scale `s`.
+    pub(super) fn style_for_scale(&mut self, ctx: &egui::Context, s: f32) {
+        ctx.all_styles_mut(|style| {
+            use egui::TextStyle;
+            style.text_styles = [
+                (TextStyle::Small, FontId::proportional(10.0 * s)),
+                (TextStyle::Body, FontId::proportional(12.5 * s)),
+                (TextStyle::Button, FontId::proportional(12.5 * s)),
+                (TextStyle::Monospace, FontId::monospace(12.0 * s)),
+                (TextStyle::Heading, FontId::proportional(18.0 * s)),
+            ]
+            .into();
+            style.spacing.interact_size = Vec2::new(40.0 * s, 20.0 * s);
+            style.spacing.button_padding = Vec2::new(6.0 * s, 3.0 * s);
+            style.spacing.item_spacing = Vec2::new(6.0 * s, 4.0 * s);
+            style.spacing.icon_width = 12.0 * s;
+            style.spacing.icon_width_inner = 7.0 * s;
+            style.spacing.icon_spacing = 4.0 * s;
+            style.spacing.menu_margin = egui::Margin::same((5.0 * s) as i8);
+            style.spacing.tooltip_width = 320.0 * s;
+            style.interaction.tooltip_delay = 0.4;
+        });
+        self.styled_scale = s;
+    }
+
+    /// Knobs for `ids` side by side in equal cells across `body`, centred vertically;
+    /// returns the band they occupy.
+    pub(super) fn knob_row(
+        &self,
+        ui: &mut egui::Ui,
+        body: Rect,
+        setter: &ParamSetter,
+        t: &Theme,
+        ids: &[(ParamId, &str)],
+    ) -> Rect {
+        let w = body.width() / ids.len() as f32;
+        // The height a knob of the cell's width needs: name, dial, value.
+        let h = body.height().min(
+            2.0 * widgets::KNOB_RADIUS_PER_WIDTH * w + t.font_small * 1.5 + t.font_value * 1.6,
+        );
+        let top = body.top() + 0.5 * (body.height() - h);
+        for (i, (id, label)) in ids.iter().enumerate() {
+            let cell =
+                Rect::from_min_size(Pos2::new(body.left() + w * i as f32, top), Vec2::new(w, h))
+                    .shrink2(Vec2::new(2.0 * t.scale, 0.0));
+            let doc = id.spec().doc;
+            match self.params.get(*id) {
+                TableParam::Float(p) => widgets::knob(ui, cell, p, setter, label, doc, t),
+                TableParam::Int(p) => widgets::knob(ui, cell, p, setter, label, doc, t),
+            };
+        }
+        Rect::from_min_size(Pos2::new(body.left(), top), Vec2::new(body.width(), h))
+    }
+
+    /// Generic controls for the table rows without a designed place: a knob per number, a
+    /// selector per enumeration, in table order.
+    pub(super) fn extra_controls(
+        &self,
+        ui: &mut egui::Ui,
+        body: Rect,
+        setter: &ParamSetter,
+        t: &Theme,
+    ) {
+        let units: f32 = self
+            .extra
+            .iter()
+            .map(|id| if is_enum(*id) { 2.0 } else { 1.0 })
+            .sum();
+        let unit = (body.width() / units.max(1.0)).min(body.width() / 8.0);
+        let h = body.height().min(
+            2.0 * widgets::KNOB_RADIUS_PER_WIDTH * unit + t.font_small * 1.5 + t.font_value * 1.6,
+        );
+        let top = body.top() + 0.5 * (body.height() - h);
+        let mut x = body.left();
+        for id in &self.extra {
+            let spec = id.spec();
+            let w = if is_enum(*id) { 2.0 * unit } else { unit };
+            let cell = Rect::from_min_size(Pos2::new(x, top), Vec2::new(w, h))
+                .shrink2(Vec2::new(3.0 * t.scale, 0.0));
+            x += w;
+            match self.params.get(*id) {
+                TableParam::Float(p) => {
+                    widgets::knob(ui, cell, p, setter, spec.name, spec.doc, t);
+                }
+                TableParam::Int(p) if is_enum(*id) => {
+                    let (label, rest) = labelled(cell, t);
+                    widgets::caption(ui, label.center_top(), Align2::CENTER_TOP, spec.name, t);
+                    let control = Rect::from_center_size(
+                        rest.center(),
+                        Vec2::new(rest.width(), (22.0 * t.scale).min(rest.height())),
+                    );
+                    widgets::selector(ui, control, p, setter, false, spec.doc, t);
+                }
+                TableParam::Int(p) => {
+                    widgets::knob(ui, cell, p, setter, spec.name, spec.doc, t);
+                }
+            }
+        }
+    }
+
+    /// The output section's side column: output selector, run selector, seed.
+    pub(super) fn output_stack(
+        &self,
+        ui: &mut egui::Ui,
+        side: Rect,
+        setter: &ParamSetter,
+        t: &Theme,
+    ) {
+        let s = t.scale;
+        let row_h = side.height() / 3.0;
+        let control_h = (22.0 * s).min(row_h * 0.55);
+        let row = |i: usize| {
+            let top = side.top() + row_h * i as f32;
+            let label = Rect::from_min_size(
+                Pos2::new(side.left(), top),
+                Vec2::new(side.width(), t.font_small * 1.5),
+            );
+            let control = Rect::from_min_size(
+                Pos2::new(side.left(), label.bottom() + 2.0 * s),
+                Vec2::new(side.width(), control_h),
+            );
+            (label, control)
+        };
+
+        let (label, control) = row(0);
+        widgets::caption(ui, label.left_top(), Align2::LEFT_TOP, "Output", t);
+        if let TableParam::Int(p) = self.params.get(ParamId::Output) {
+            widgets::selector(ui, control, p, setter, false, ParamId::Output.spec().doc, t);
+        }
+
+        let (label, control) = row(1);
+        widgets::caption(ui, label.left_top(), Align2::LEFT_TOP, "Run", t);
+        widgets::selector(
+            ui,
+            control,
+            &self.params.run,
+            setter,
+            false,
+            "Roll while the host's transport plays (the ball glides to rest on stop), or always",
+            t,
+        );
+
+        let (label, control) = row(2);
+        widgets::caption(ui, label.left_top(), Align2::LEFT_TOP, "Seed", t);
+        if let TableParam::Int(p) = self.params.get(ParamId::Seed) {
+            let new_w = 44.0 * s;
+            let field = Rect::from_min_max(
+                control.min,
+                Pos2::new(control.right() - new_w - 4.0 * s, control.bottom()),
+            );
+            widgets::int_field(
+                ui,
+                field,
+                p,
+                setter,
+                "Random seed: drag to step it, double-click for the default. The same seed \
+                 and parameters give the same samples.",
+                t,
+            );
+            let new = Rect::from_min_max(
+                Pos2::new(field.right() + 4.0 * s, control.top()),
+                control.max,
+            );
+            if widgets::button(ui, new, Id::unique("seed_new"), "new", t)
+                .on_hover_text("Another seed (a scramble of the current one)")
+                .clicked()
+            {
+                let next = (splitmix(p.unmodulated_plain_value() as u64) & 0x7fff_ffff) as i32;
+                widgets::set_once(setter, p, next);
+            }
+        }
+    }
+
+    pub(super) fn spectrum(&mut self, ui: &egui::Ui, body: Rect, t: &Theme) {
+        self.analyzer.update(&self.tap);
+        let s = t.scale;
+        let p = ui.painter_at(body);
+        p.rect_filled(body, t.radius_small(), WELL);
+        let (db_lo, db_hi) = (-100.0f32, 0.0f32);
+        let f_hi = self.analyzer.f_hi_hz();
+        let span = (f_hi / F_LO_HZ).ln();
+        let x_of = |f: f32| body.left() + body.width() * (f / F_LO_HZ).ln() / span;
+        let y_of = |db: f32| {
+            let u = ((db - db_lo) / (db_hi - db_lo)).clamp(0.0, 1.0);
+            body.bottom() - u * body.height()
+        };
+        // The fill under the curve first (opaque, fading to the floor), the grid over it,
+        // the curve on top.
+        let levels = self.analyzer.levels_db();
+        let col_x = |c: usize| body.left() + body.width() * c as f32 / (COLUMNS - 1) as f32;
+        let mut line = Vec::with_capacity(COLUMNS);
+        let mut fill = egui::Mesh::default();
+        fill.reserve_vertices(2 * COLUMNS);
+        fill.reserve_triangles(2 * (COLUMNS - 1));
+        let top = lerp_colour(WELL, ACCENT, 0.30);
+        let bottom = lerp_colour(WELL, ACCENT, 0.02);
+        for (c, level) in levels.iter().enumerate() {
+            let pt = Pos2::new(col_x(c), y_of(*level));
+            line.push(pt);
+            fill.colored_vertex(pt, top);
+            fill.colored_vertex(Pos2::new(pt.x, body.bottom()), bottom);
+            if c > 0 {
+                let i = 2 * c as u32;
+                fill.add_triangle(i - 2, i - 1, i);
+                fill.add_triangle(i - 1, i + 1, i);
+            }
+        }
+        p.add(fill);
+
+        let font = FontId::proportional((9.5 * s).max(8.5));
+        let grid = Color32::from_white_alpha(16);
+        let grid_major = Color32::from_white_alpha(30);
+        for db in [-80.0f32, -60.0, -40.0, -20.0] {
+            let y = y_of(db);
+            p.line_segment(
+                [Pos2::new(body.left(), y), Pos2::new(body.right(), y)],
+                Stroke::new(1.0, grid),
+            );
+            p.text(
+                Pos2::new(body.right() - 4.0 * s, y - 1.0 * s),
+                Align2::RIGHT_BOTTOM,
+                format!("{db:.0}"),
+                font.clone(),
+                TEXT_DIM,
+            );
+        }
+        let decades = [
+            20.0f32, 50.0, 100.0, 200.0, 500.0, 1e3, 2e3, 5e3, 10e3, 20e3,
+        ];
+        for f in decades.into_iter().filter(|f| *f <= f_hi) {
+            let x = x_of(f);
+            let major = matches!(f as u32, 100 | 1_000 | 10_000);
+            p.line_segment(
+                [Pos2::new(x, body.top()), Pos2::new(x, body.bottom())],
+                Stroke::new(1.0, if major { grid_major } else { grid }),
+            );
+            if f > 20.0 && f < 20e3 {
+                let label = if f >= 1e3 {
+                    format!("{}k", f / 1e3)
+                } else {
+                    format!("{f}")
+                };
+                p.text(
+                    Pos2::new(x + 3.0 * s, body.bottom() - 2.0 * s),
+                    Align2::LEFT_BOTTOM,
+                    label,
+                    font.clone(),
+                    TEXT_DIM,
+                );
+            }
+        }
+        p.add(egui::Shape::line(line, Stroke::new(1.6 * s, ACCENT)));
+        p.rect_stroke(
+            body,
+            t.radius_small(),
+            Stroke::new(1.0, BORDER),
+            egui::StrokeKind::Inside,
+        );
+    }
+}
