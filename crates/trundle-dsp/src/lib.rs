@@ -29,11 +29,54 @@
 //! | [`shape`] | mode frequency series per object shape | CMJ "Intuitive control" |
 //! | [`modal`] | Mathews–Smith complex one-pole ("phasor") filter bank | Mathews & Smith 2003 |
 //! | [`voice`] | one ball on one object: source (or physics) + object, smoothing, lifecycle | — |
+//! | [`engine_mix`] | the engine choice, the physics controls' smoothing, the crossfade | — |
+//! | [`events`] | the one event loop: notes and automation applied at exact samples | — |
+//! | [`limiter`] | a look-ahead, stereo-linked safety limiter (−1 dBFS ceiling) | — |
 //! | [`engine`] | engine choice; the controls mapped onto the physics (S → R, m_e, κ; V → v; ρ → β, relief) | TASLP §II-A, §III-B, §V-C; Rath 2003 §5 |
 //! | [`params`] | the single parameter table (IDs, ranges, units, defaults) | — |
 //! | [`analysis`] | impact extraction, ARMA(1,1) Gauss–Newton fit, residual statistics | TASLP §IV-B, §IV-E |
 //! | `fit` (feature `fit`) | modal analysis of a recorded strike (band-split ESPRIT), residual envelope | Roy & Kailath 1989; Hua & Sarkar 1990 |
 //! | [`surface`], [`physics`] | fractal surface, Rath's rolling filter, Hunt–Crossley ball (RK4) | TASLP §II-A, §III; Rath 2003 |
+//!
+//! ## Use
+//!
+//! A parameter set from the one table ([`Params`], [`PARAMS`]), a [`Voice`] that renders it,
+//! events at exact samples ([`events`]), and the analysis that reads the statistics back:
+//!
+//! ```
+//! use trundle_dsp::analysis;
+//! use trundle_dsp::events::{process_with_events, TimedEvent, VoiceEvent};
+//! use trundle_dsp::{ParamId, Params, Voice};
+//!
+//! // A rough surface, a slow ball, heard as the raw force (what the analysis reads).
+//! let mut params = Params::default();
+//! params.set(ParamId::Roughness, 0.8)?;
+//! params.set_text("velocity", "0.3 m/s")?; // the table's text format, units accepted
+//! params.set_text("output", "force")?;
+//!
+//! let fs = 48_000.0;
+//! let mut voice = Voice::new(fs, &params); // allocates; `process` never does
+//! let mut force = vec![0f32; 48_000]; // one second
+//!
+//! // A second ball (MIDI note 60) joins at 0.5 s, sample-accurately.
+//! let note = TimedEvent {
+//!     offset: 24_000,
+//!     event: VoiceEvent::NoteOn { note: 60, velocity: 0.8 },
+//! };
+//! process_with_events(&mut voice, &mut force, [note], |_, _, _| {});
+//! assert!(force.iter().all(|x| x.is_finite()));
+//!
+//! // The same seed and parameters give the same samples.
+//! let mut again = Voice::new(fs, &params);
+//! let mut first_half = vec![0f32; 24_000];
+//! again.process(&mut first_half);
+//! assert_eq!(&force[..24_000], &first_half[..]);
+//!
+//! // Impacts found in the force: a rolling ball makes hundreds per second.
+//! let impacts = analysis::extract_impacts(&force, fs, 0.05);
+//! assert!(impacts.len() > 100, "{} impacts", impacts.len());
+//! # Ok::<(), trundle_dsp::ParamError>(())
+//! ```
 //!
 //! ## Quantities and units
 //!
