@@ -5,9 +5,12 @@
 //! to the next event, repeat. [`process_with_events`] is that loop, written once:
 //!
 //! * **Sample-accurate**: an event at offset k is applied before sample k is rendered, so it
-//!   shapes sample k onward (the voice then takes new parameter targets at its next internal
-//!   chunk boundary and glides to them, see [`crate::voice`]); the output does not depend on
-//!   how a block is cut, only on where events fall.
+//!   shapes sample k onward. The voice acts on it (new parameter targets, which it glides
+//!   to; a new or stopped ball) at its control rate: the first boundary of its
+//!   [`crate::CHUNK`]-sample grid at or after k, counted from the start of the render — at
+//!   most 63 samples (1.3 ms at 48 kHz) late, see [`crate::voice`]. The output does not
+//!   depend on how a block is cut, only on where events fall (`tests/events.rs`: every block
+//!   size 1…8192, and random sizes, give the same samples).
 //! * **Allocation-free**: events come from any iterator (the host's event queue, a preset's
 //!   keyframes sampled on the fly by [`Scene`]); nothing is buffered.
 //!
