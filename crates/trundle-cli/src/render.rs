@@ -500,11 +500,8 @@ fn render_pass(
     while done < frames {
         let n = (frames - done).min(BLOCK as u64) as usize;
         let out = &mut block[..n];
-        if scene.is_static() {
-            voice.process(out);
-        } else {
-            process_with_events(voice, out, scene.events(done, n), |_, _, _| {});
-        }
+        // A scene without lanes or notes yields no events: one stretch, `voice.process`.
+        process_with_events(voice, out, scene.events(done, n), |_, _, _| {});
         let count = &mut impacts.count;
         impacts.dropped += voice.drain_impacts(|r| {
             *count += 1;

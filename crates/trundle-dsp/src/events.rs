@@ -124,11 +124,6 @@ impl<'a> Scene<'a> {
         }
     }
 
-    /// True when the scene has no events at all (a plain render).
-    pub fn is_static(&self) -> bool {
-        self.lanes.is_empty() && self.notes.is_empty()
-    }
-
     /// The parameters at sample `at` (the lanes evaluated at its time).
     pub fn params_at(&self, at: u64) -> Params {
         let t = at as f64 / self.sample_rate_hz;
