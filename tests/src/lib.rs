@@ -541,7 +541,7 @@ impl Instance {
     /// Process `blocks` on an audio thread while this (main) thread services the plugin's
     /// callbacks, and return both output channels. Fails if `process` fails or any output
     /// sample is not finite (outputs are NaN-filled before each call, so an unwritten sample
-    /// fails too).
+    /// fails too) or is subnormal.
     pub fn render(&mut self, blocks: &[Block]) -> Result<[Vec<f32>; 2], HostError> {
         self.render_impl(blocks, false, None).map(|(out, _)| out)
     }
@@ -722,6 +722,13 @@ impl Instance {
             if let Some(i) = ch.iter().position(|x| !x.is_finite()) {
                 return Err(err(format!(
                     "channel {c}, sample {i}: {} (not written or not finite)",
+                    ch[i]
+                )));
+            }
+            // clap-validator's param-fuzz tests fail a plugin on a subnormal sample.
+            if let Some(i) = ch.iter().position(|x| x.is_subnormal()) {
+                return Err(err(format!(
+                    "channel {c}, sample {i}: {:e} (subnormal)",
                     ch[i]
                 )));
             }

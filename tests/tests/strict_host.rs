@@ -453,3 +453,88 @@ fn two_instances_interleaved_match_each_alone() {
     assert_eq!(first_difference(&alone_a, &out_a), None, "A interleaved");
     assert_eq!(first_difference(&alone_b, &out_b), None, "B interleaved");
 }
+
+/// clap-validator's `param-fuzz-*` tests, as a host test (#13): every parameter set to a
+/// random in-range value (a whole number for stepped ones, bypass included) at the start of
+/// every block of random size, the output on the object and on the raw force, at two sample
+/// rates, a ball played by a note; then the ball at rest while everything decays (where
+/// subnormals come from). `render` fails on any non-finite or subnormal sample.
+#[test]
+fn parameters_fuzzed_every_block_never_give_nan_inf_or_subnormal_samples() {
+    use clack_extensions::params::ParamInfoFlags;
+    let b = load_bundle();
+    let mut rng = SmallRng::seed_from_u64(0x6675_7a7a);
+    let mut samples = 0;
+    for fs in [44_100.0, 96_000.0] {
+        // The output enum's CLAP values: 0 = object, 1 = force.
+        for output in [0.0, 1.0] {
+            let mut inst = new_instance(&b);
+            let params = inst.params().unwrap();
+            // 256 modes at ultra quality in a debug build is slow to fuzz; the model's own
+            // fuzz (trundle-dsp tests/param_fuzz.rs) caps them alike, tests/physics.rs
+            // covers the extremes.
+            let modes_cap = plain(&mut inst, "modes", 64.0);
+            let (output_id, modes_id, velocity_id) = (id("output"), id("modes"), id("velocity"));
+            inst.activate(fs, 1024).unwrap();
+            let mut blocks = Vec::new();
+            for k in 0..60 {
+                let events = params
+                    .iter()
+                    .map(|p| {
+                        let v = if p.id == output_id {
+                            output
+                        } else if p.flags.contains(ParamInfoFlags::IS_STEPPED) {
+                            rng.random_range(p.min as i64..=p.max as i64) as f64
+                        } else {
+                            rng.random_range(p.min..=p.max)
+                        };
+                        let v = if p.id == modes_id {
+                            v.min(modes_cap)
+                        } else {
+                            v
+                        };
+                        (0, p.id, v)
+                    })
+                    .collect();
+                let notes = match k {
+                    3 => vec![(0, 60, Some(0.8))],
+                    40 => vec![(0, 60, None)],
+                    _ => Vec::new(),
+                };
+                blocks.push(Block {
+                    len: rng.random_range(1..=1024),
+                    events,
+                    transport: Transport::Playing,
+                    notes,
+                });
+            }
+            // Two seconds of decay with the ball at rest and the plugin not bypassed.
+            let rest = plain(&mut inst, "velocity", 0.0);
+            let bypass = params
+                .iter()
+                .find(|p| p.flags.contains(ParamInfoFlags::IS_BYPASS))
+                .map(|p| (0, p.id, 0.0));
+            let tail = (2.0 * fs) as usize / 1024;
+            for k in 0..tail {
+                let mut events = vec![(0, velocity_id, rest)];
+                if k == 0 {
+                    events.extend(bypass);
+                }
+                blocks.push(Block {
+                    len: 1024,
+                    events,
+                    transport: Transport::Playing,
+                    notes: Vec::new(),
+                });
+            }
+            let out = render(&mut inst, &blocks);
+            assert!(
+                peak(&out) < PEAK_LIMIT,
+                "fs {fs}, output {output}: peak {}",
+                peak(&out)
+            );
+            samples += out.len();
+        }
+    }
+    eprintln!("{samples} samples checked");
+}

@@ -286,7 +286,12 @@ impl Plugin for Trundle {
                                 (*bypass_gain - step).max(bypass_target)
                             };
                         }
+                        // The voice's output is never subnormal, but a tiny sample times
+                        // a fading gain can be (#13): flush it.
                         *x *= *bypass_gain;
+                        if x.is_subnormal() {
+                            *x = 0.0;
+                        }
                     }
                 }
                 if stretch.iter().all(|x| *x == 0.0) {
