@@ -184,7 +184,7 @@ mod tests {
     }
 
     #[test]
-    fn an_event_takes_effect_at_its_sample_whatever_the_block_size() {
+    fn an_event_is_applied_before_its_sample_whatever_the_block_size() {
         // A note at sample 1000 and a parameter change at 3000, rendered in one block and
         // in blocks of every awkward size: identical output.
         let mut quiet = Params::default();

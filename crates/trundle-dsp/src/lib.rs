@@ -30,7 +30,7 @@
 //! | [`modal`] | Mathews–Smith complex one-pole ("phasor") filter bank | Mathews & Smith 2003 |
 //! | [`voice`] | one ball on one object: source (or physics) + object, smoothing, lifecycle | — |
 //! | [`engine_mix`] | the engine choice, the physics controls' smoothing, the crossfade | — |
-//! | [`events`] | the one event loop: notes and automation applied at exact samples | — |
+//! | [`events`] | the one event loop: notes and automation split the block where they fall, acted on at the next 64-sample chunk | — |
 //! | [`limiter`] | a look-ahead, stereo-linked safety limiter (−1 dBFS ceiling) | — |
 //! | [`engine`] | engine choice; the controls mapped onto the physics (S → R, m_e, κ; V → v; ρ → β, relief) | TASLP §II-A, §III-B, §V-C; Rath 2003 §5 |
 //! | [`params`] | the single parameter table (IDs, ranges, units, defaults) | — |
@@ -41,7 +41,7 @@
 //! ## Use
 //!
 //! A parameter set from the one table ([`Params`], [`PARAMS`]), a [`Voice`] that renders it,
-//! events at exact samples ([`events`]), and the analysis that reads the statistics back:
+//! events at sample offsets ([`events`]), and the analysis that reads the statistics back:
 //!
 //! ```
 //! use trundle_dsp::analysis;
@@ -58,7 +58,7 @@
 //! let mut voice = Voice::new(fs, &params); // allocates; `process` never does
 //! let mut force = vec![0f32; 48_000]; // one second
 //!
-//! // A second ball (MIDI note 60) joins at 0.5 s, sample-accurately.
+//! // A second ball (MIDI note 60) joins at 0.5 s (24 000 is on the 64-sample chunk grid).
 //! let note = TimedEvent {
 //!     offset: 24_000,
 //!     event: VoiceEvent::NoteOn { note: 60, velocity: 0.8 },

@@ -358,7 +358,7 @@ impl Voice {
             // object's state is flushed, but the force output — a low-pass tail — and a
             // tiny gain can reach the subnormal range; a validator found −4·10⁻⁴⁰).
             let o = g * y;
-            self.sound[i] = if o.is_finite() && (o == 0.0 || o.abs() >= f32::MIN_POSITIVE) {
+            self.sound[i] = if o.is_finite() && !o.is_subnormal() {
                 o
             } else {
                 0.0

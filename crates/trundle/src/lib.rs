@@ -234,7 +234,7 @@ impl Plugin for Trundle {
         }
 
         let step = 1.0 / (BYPASS_FADE_S * self.sample_rate).max(1.0);
-        // Notes start or stop balls at their exact samples: the core's event loop splits
+        // Notes start or stop balls where they fall: the core's event loop splits
         // the block there (`trundle_dsp::events`).
         let notes = next_event
             .into_iter()
