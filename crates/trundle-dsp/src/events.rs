@@ -88,6 +88,37 @@ where
     }
 }
 
+/// [`process_with_events`] for stereo: renders `left` and `right` (same length; the shorter
+/// sets the count) with [`Voice::process_stereo`]; `after(voice, left, right, offset)` sees
+/// each stretch. Real-time safe: no allocation.
+pub fn process_stereo_with_events<I, F>(
+    voice: &mut Voice,
+    left: &mut [f32],
+    right: &mut [f32],
+    events: I,
+    mut after: F,
+) where
+    I: IntoIterator<Item = TimedEvent>,
+    F: FnMut(&Voice, &mut [f32], &mut [f32], usize),
+{
+    let mut events = events.into_iter().peekable();
+    let n = left.len().min(right.len());
+    let mut pos = 0;
+    while pos < n {
+        while let Some(e) = events.next_if(|e| e.offset <= pos) {
+            voice.apply(&e.event);
+        }
+        let end = events.peek().map_or(n, |e| e.offset.min(n));
+        let (l, r) = (&mut left[pos..end], &mut right[pos..end]);
+        voice.process_stereo(l, r);
+        after(voice, l, r, pos);
+        pos = end;
+    }
+    for e in events {
+        voice.apply(&e.event);
+    }
+}
+
 /// Samples between two applications of a scene's automation lanes (5.3 ms at 48 kHz; the
 /// voice smooths every change over 12 ms, so lanes glide without steps).
 pub const AUTOMATION_STEP: u64 = 256;

@@ -59,6 +59,10 @@ pub enum Quality {
     High,
     /// Every requested mode, no culling, physics RK4 at the maximum oversampling.
     Ultra,
+    /// Every mode of the shape's series below Nyquist explicitly (up to
+    /// [`crate::shape::REFERENCE_MODES`]), no high band, no culling, long decays in f64: the
+    /// judge the other qualities are measured against. Offline only (thousands of modes).
+    Reference,
 }
 
 impl ParamEnum for Quality {
@@ -67,8 +71,9 @@ impl ParamEnum for Quality {
         Quality::Normal,
         Quality::High,
         Quality::Ultra,
+        Quality::Reference,
     ];
-    const NAMES: &'static [&'static str] = &["draft", "normal", "high", "ultra"];
+    const NAMES: &'static [&'static str] = &["draft", "normal", "high", "ultra", "reference"];
     const ID: ParamId = ParamId::Quality;
 }
 
@@ -79,6 +84,7 @@ impl Quality {
             Quality::Draft => 16,
             Quality::Normal => 64,
             Quality::High | Quality::Ultra => MAX_MODES,
+            Quality::Reference => crate::shape::REFERENCE_MODES,
         }
     }
 
@@ -89,7 +95,7 @@ impl Quality {
             Quality::Draft => -50.0,
             Quality::Normal => -70.0,
             Quality::High => -90.0,
-            Quality::Ultra => f64::NEG_INFINITY,
+            Quality::Ultra | Quality::Reference => f64::NEG_INFINITY,
         }
     }
 
@@ -99,7 +105,7 @@ impl Quality {
         match self {
             Quality::Draft => Some(1),
             Quality::Normal | Quality::High => None,
-            Quality::Ultra => Some(crate::physics::MAX_OVERSAMPLE),
+            Quality::Ultra | Quality::Reference => Some(crate::physics::MAX_OVERSAMPLE),
         }
     }
 }

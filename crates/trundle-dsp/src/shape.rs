@@ -22,8 +22,12 @@ use core::f64::consts::PI;
 
 use crate::params::{ParamEnum, ParamId};
 
-/// Maximum number of modes of any object.
+/// Maximum number of explicit modes of any object below the `reference` quality.
 pub const MAX_MODES: usize = 256;
+
+/// Length of every shape's series: the `reference` quality plays every mode below Nyquist,
+/// up to this many.
+pub const REFERENCE_MODES: usize = 4096;
 
 /// An object shape.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

@@ -57,7 +57,10 @@ pub struct Voice {
     /// Position within the current chunk grid (so block size never changes the result).
     chunk_pos: usize,
     force: [f32; CHUNK],
+    /// The chunk's output: the mid (mono) channel, and the side (L = mid + side,
+    /// R = mid − side).
     sound: [f32; CHUNK],
+    side: [f32; CHUNK],
     coupled: [f32; CHUNK],
     /// The engine choice: the physics engine, its smoothing, the crossfade.
     engines: EngineMix,
@@ -126,6 +129,7 @@ impl Voice {
             chunk_pos: 0,
             force: [0.0; CHUNK],
             sound: [0.0; CHUNK],
+            side: [0.0; CHUNK],
             coupled: [0.0; CHUNK],
             engines: EngineMix::new(fs, params),
             balls: BallPool::new(fs),
@@ -267,17 +271,10 @@ impl Voice {
         &mut self.source
     }
 
-    /// Render `out.len()` samples (mono), overwriting `out`. Any length, including 0.
+    /// Render `out.len()` samples of the mono mix (the mid, (L + R)/2), overwriting `out`.
+    /// Any length, including 0.
     pub fn process(&mut self, out: &mut [f32]) {
-        if !self.started {
-            self.source.snap_controls();
-            self.space.snap_controls();
-            self.object.snap_controls();
-            self.gain.snap_to_target();
-            self.force_mix.snap_to_target();
-            self.engines.snap();
-            self.started = true;
-        }
+        self.start();
         let mut done = 0;
         while done < out.len() {
             if self.chunk_pos == 0 {
@@ -288,6 +285,46 @@ impl Voice {
                 .copy_from_slice(&self.sound[self.chunk_pos..self.chunk_pos + take]);
             done += take;
             self.chunk_pos = (self.chunk_pos + take) % CHUNK;
+        }
+    }
+
+    /// Render `left.len()` stereo frames into `left` and `right` (overwritten; they must
+    /// have the same length, the shorter sets the count). Any length, including 0. The
+    /// force output is the same on both channels. `(left + right)/2` is exactly what
+    /// [`process`](Self::process) renders.
+    pub fn process_stereo(&mut self, left: &mut [f32], right: &mut [f32]) {
+        self.start();
+        let n = left.len().min(right.len());
+        let mut done = 0;
+        while done < n {
+            if self.chunk_pos == 0 {
+                self.render_chunk();
+            }
+            let take = (CHUNK - self.chunk_pos).min(n - done);
+            let range = self.chunk_pos..self.chunk_pos + take;
+            for ((l, r), (&m, &s)) in left[done..done + take]
+                .iter_mut()
+                .zip(&mut right[done..done + take])
+                .zip(self.sound[range.clone()].iter().zip(&self.side[range]))
+            {
+                *l = flush_output(m + s);
+                *r = flush_output(m - s);
+            }
+            done += take;
+            self.chunk_pos = (self.chunk_pos + take) % CHUNK;
+        }
+    }
+
+    /// Snap the smoothers on the first call after a reset (a render starts at its targets).
+    fn start(&mut self) {
+        if !self.started {
+            self.source.snap_controls();
+            self.space.snap_controls();
+            self.object.snap_controls();
+            self.gain.snap_to_target();
+            self.force_mix.snap_to_target();
+            self.engines.snap();
+            self.started = true;
         }
     }
 
@@ -309,6 +346,7 @@ impl Voice {
             // all zero from the last chunk: that is what `quiet` records).
             self.source.skip_chunk(CHUNK);
             self.sound.fill(0.0);
+            self.side.fill(0.0);
             return;
         }
         self.engines.force_chunk(&mut self.source, &mut self.force);
@@ -333,6 +371,7 @@ impl Voice {
             // input, see `object`), and the output is exactly zero: the same samples and
             // state as the full path, at a fraction of its cost.
             self.object.process_chunk(&self.coupled, &mut self.sound);
+            self.side.fill(0.0);
             self.gain.advance(CHUNK, fs);
             self.force_mix.advance(CHUNK, fs);
             return;
@@ -357,12 +396,18 @@ impl Voice {
             // Last line of defence: never hand a host NaN, infinity or a subnormal (the
             // object's state is flushed, but the force output — a low-pass tail — and a
             // tiny gain can reach the subnormal range; a validator found −4·10⁻⁴⁰).
-            let o = g * y;
-            self.sound[i] = if o.is_finite() && !o.is_subnormal() {
-                o
-            } else {
-                0.0
-            };
+            self.sound[i] = flush_output(g * y);
+            self.side[i] = 0.0;
         }
+    }
+}
+
+/// A sample as it may leave the voice: NaN, infinities and subnormals become 0.
+#[inline]
+fn flush_output(x: f32) -> f32 {
+    if x.is_finite() && !x.is_subnormal() {
+        x
+    } else {
+        0.0
     }
 }

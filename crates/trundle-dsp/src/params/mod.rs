@@ -87,6 +87,10 @@ pub enum ParamId {
     Engine,
     /// Accuracy/cost budget: mode cap, culling, physics oversampling (see [`crate::object::Quality`]).
     Quality,
+    /// Stereo width: 0 = mono, 1 = the two pickups as they hear the object.
+    Width,
+    /// The output safety limiter (on by default).
+    Limiter,
 }
 
 /// A parameter whose value is one of a few named variants (shape, output, engine…).
@@ -408,6 +412,14 @@ impl Params {
     /// Which engine makes the force.
     pub fn engine(&self) -> crate::engine::Engine {
         self.variant()
+    }
+    /// Whether the output safety limiter acts.
+    pub fn limiting(&self) -> crate::limiter::Limiting {
+        self.variant()
+    }
+    /// The stereo width (0 = mono … 1).
+    pub fn width(&self) -> f64 {
+        self.get(ParamId::Width)
     }
     /// The accuracy/cost budget.
     pub fn quality(&self) -> crate::object::Quality {

@@ -18,7 +18,7 @@ const PERCENT: ParamKind = ParamKind::Float {
 };
 
 /// Number of parameters.
-pub const PARAM_COUNT: usize = 25;
+pub const PARAM_COUNT: usize = 27;
 
 /// The parameter table, indexed by [`ParamId`].
 pub const PARAMS: [ParamSpec; PARAM_COUNT] = [
@@ -291,9 +291,31 @@ pub const PARAMS: [ParamSpec; PARAM_COUNT] = [
         name: "Quality",
         unit: "",
         min: 0.0,
-        max: 3.0,
+        max: 4.0,
         default: 2.0,
         kind: ParamKind::Enum(<crate::object::Quality as ParamEnum>::NAMES),
-        doc: "Cost budget: draft = at most 16 modes, modes 50 dB below the loudest culled, physics RK4 1x; normal = at most 64 modes, culling at -70 dB; high = every requested mode, culling at -90 dB; ultra = no culling, physics RK4 8x. Culled and capped modes ring out (no clicks)",
+        doc: "Cost budget: draft = at most 16 modes, modes 50 dB below the loudest culled, physics RK4 1x; normal = at most 64 modes, culling at -70 dB; high = every requested mode, culling at -90 dB; ultra = no culling, physics RK4 8x; reference = every mode of the shape below Nyquist explicitly (up to 4096, long decays in f64), offline only. Above the explicit modes a high band carries the rest of the spectrum (docs/MODEL.md §6). Culled and capped modes ring out (no clicks)",
+    },
+    ParamSpec {
+        id: ParamId::Width,
+        key: "width",
+        name: "Width",
+        unit: "",
+        min: 0.0,
+        max: 1.0,
+        default: 0.8,
+        kind: PERCENT,
+        doc: "Stereo width: each mode heard at two pickups on the object with gains from its mode shape (docs/MODEL.md §6); 0 = mono (both channels the mid), 1 = the pickups as they hear it. L+R is the same at every width",
+    },
+    ParamSpec {
+        id: ParamId::Limiter,
+        key: "limiter",
+        name: "Limiter",
+        unit: "",
+        min: 0.0,
+        max: 1.0,
+        default: 1.0,
+        kind: ParamKind::Enum(<crate::limiter::Limiting as ParamEnum>::NAMES),
+        doc: "Output safety limiter: look-ahead 1.5 ms, stereo-linked, ceiling -1 dBFS, acting only on peaks (on by default); off = the engine's level as is",
     },
 ];
