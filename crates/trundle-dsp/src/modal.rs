@@ -24,9 +24,16 @@
 //! between chunks of at most [`crate::CHUNK`] samples), so a decayed object holds no
 //! subnormal numbers.
 //!
+//! ## Stereo
+//! [`ModalBank::process_stereo`] also writes a second output, Σ dₖ·Im zₖ, with a per-mode
+//! weight dₖ: the object puts each mode's mid gain into gₖ and the ratio side/mid into dₖ,
+//! so one recursion per mode serves both channels (L = mid + side, R = mid − side) and the
+//! stereo kernel costs one multiply–add per mode·sample more than the mono one.
+//!
 //! ## Layout and kernels
-//! Struct of arrays (`re`, `im`, `c`, `s`, `g`), lanes padded to a multiple of [`LANES`] with
-//! zero coefficients. [`ModalBank::process`] works in blocks of at most [`BLOCK`] samples:
+//! Struct of arrays (`re`, `im`, `c`, `s`, `g`, `d`), lanes padded to a multiple of [`LANES`]
+//! with zero coefficients. Two ranges of modes are processed: a prefix `0..active` and a
+//! tail `tail_start..tail_start + tail_len` (the object's explicit modes and its high band). [`ModalBank::process`] works in blocks of at most [`BLOCK`] samples:
 //! modes in the outer loop, [`LANES`] at a time (several groups interleaved so the
 //! recursion's latency is hidden), samples in the inner loop with each group's state in
 //! registers; every group adds its lanes into a per-sample, per-lane stack accumulator, and
@@ -52,8 +59,15 @@ pub const LANES: usize = 8;
 pub const BLOCK: usize = crate::CHUNK;
 
 /// A per-sample, per-lane accumulator, aligned for 256-bit loads and stores.
+#[derive(Clone)]
 #[repr(C, align(32))]
 struct Acc([[f32; LANES]; BLOCK]);
+
+impl core::fmt::Debug for Acc {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str("Acc")
+    }
+}
 
 /// An implementation of the bank's inner loop.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -113,6 +127,8 @@ pub struct ModeCoeffs {
     pub s: f32,
     /// Input gain g.
     pub g: f32,
+    /// Weight of the mode in the side output of [`ModalBank::process_stereo`].
+    pub d: f32,
 }
 
 /// Pole coefficients (r·cos ω, r·sin ω) in f32 for a mode at `freq_hz` with 1/e decay time
@@ -158,7 +174,14 @@ pub struct ModalBank {
     c: Vec<f32>,
     s: Vec<f32>,
     g: Vec<f32>,
+    d: Vec<f32>,
     active: usize,
+    tail_start: usize,
+    tail_len: usize,
+    /// The kernels' accumulators (mid and side), kept here so a call neither builds nor
+    /// zeroes a stack array beyond the rows it uses.
+    acc: Box<Acc>,
+    acc_side: Box<Acc>,
     kernel: Kernel,
     /// Mode·samples processed since `new` (a work counter for tests and benches).
     work: u64,
@@ -176,7 +199,12 @@ impl ModalBank {
             c: vec![0.0; cap],
             s: vec![0.0; cap],
             g: vec![0.0; cap],
+            d: vec![0.0; cap],
             active: 0,
+            tail_start: 0,
+            tail_len: 0,
+            acc: Box::new(Acc([[0.0; LANES]; BLOCK])),
+            acc_side: Box::new(Acc([[0.0; LANES]; BLOCK])),
             kernel: Kernel::detect(),
             work: 0,
             ringing: false,
@@ -218,6 +246,17 @@ impl ModalBank {
             self.c[k] = m.c;
             self.s[k] = m.s;
             self.g[k] = m.g;
+            self.d[k] = m.d;
+        }
+    }
+
+    /// Set mode `k`'s input gain and side weight, keeping its pole (ignored beyond the
+    /// capacity).
+    #[inline]
+    pub fn set_gains(&mut self, k: usize, g: f32, d: f32) {
+        if k < self.c.len() {
+            self.g[k] = g;
+            self.d[k] = d;
         }
     }
 
@@ -227,6 +266,7 @@ impl ModalBank {
             c: self.c[k],
             s: self.s[k],
             g: self.g[k],
+            d: self.d[k],
         }
     }
 
@@ -236,9 +276,33 @@ impl ModalBank {
         self.active = n.min(self.capacity());
     }
 
-    /// Number of modes processed.
+    /// Number of modes processed in the prefix.
     pub fn active(&self) -> usize {
         self.active
+    }
+
+    /// Also process modes `start .. start + len` (both rounded to [`LANES`]: `start` down,
+    /// the end up; clipped to the capacity; ignored where it overlaps the prefix). Modes
+    /// outside both ranges must be silent or they are frozen.
+    pub fn set_tail(&mut self, start: usize, len: usize) {
+        let cap = self.capacity();
+        let a = (start / LANES * LANES).min(cap);
+        let b = (start + len).div_ceil(LANES).saturating_mul(LANES).min(cap);
+        self.tail_start = a;
+        self.tail_len = b.saturating_sub(a);
+    }
+
+    /// The tail range (start, length), see [`set_tail`](Self::set_tail).
+    pub fn tail(&self) -> (usize, usize) {
+        (self.tail_start, self.tail_len)
+    }
+
+    /// The processed ranges: the prefix and the part of the tail beyond it.
+    fn ranges(&self) -> [(usize, usize); 2] {
+        let lo = self.active.div_ceil(LANES) * LANES;
+        let a = self.tail_start.max(lo);
+        let b = (self.tail_start + self.tail_len).max(a);
+        [(0, lo), (a, b)]
     }
 
     /// Squared magnitude of mode `k`'s state.
@@ -264,15 +328,16 @@ impl ModalBank {
     /// anything still rings ([`is_silent`](Self::is_silent)).
     pub fn flush(&mut self) {
         let t2 = crate::FLUSH_THRESHOLD * crate::FLUSH_THRESHOLD;
-        let n = self.active.div_ceil(LANES) * LANES;
         let mut ringing = false;
-        for k in 0..n {
-            let e = self.re[k] * self.re[k] + self.im[k] * self.im[k];
-            if e < t2 || !e.is_finite() {
-                self.re[k] = 0.0;
-                self.im[k] = 0.0;
-            } else {
-                ringing = true;
+        for (a, b) in self.ranges() {
+            for k in a..b {
+                let e = self.re[k] * self.re[k] + self.im[k] * self.im[k];
+                if e < t2 || !e.is_finite() {
+                    self.re[k] = 0.0;
+                    self.im[k] = 0.0;
+                } else {
+                    ringing = true;
+                }
             }
         }
         self.ringing = ringing;
@@ -282,39 +347,78 @@ impl ModalBank {
     /// must have the same length (the shorter one sets how many samples are processed).
     /// Real-time safe: the accumulator lives on the stack.
     pub fn process(&mut self, input: &[f32], out: &mut [f32]) {
+        self.run::<false>(input, out, &mut []);
+    }
+
+    /// Run the bank on `input`, writing Σ Im zₖ to `mid` and Σ dₖ·Im zₖ to `side` (both
+    /// overwritten; the shortest of the three slices sets the length). The `mid` output is
+    /// bit for bit what [`process`](Self::process) writes. Real-time safe.
+    pub fn process_stereo(&mut self, input: &[f32], mid: &mut [f32], side: &mut [f32]) {
+        let n = input.len().min(mid.len()).min(side.len());
+        self.run::<true>(&input[..n], &mut mid[..n], &mut side[..n]);
+    }
+
+    fn run<const ST: bool>(&mut self, input: &[f32], out: &mut [f32], side: &mut [f32]) {
         debug_assert_eq!(input.len(), out.len());
         let n = input.len().min(out.len());
-        let len = self.active.div_ceil(LANES) * LANES;
+        let ranges = self.ranges();
+        let len: usize = ranges.iter().map(|(a, b)| b - a).sum();
         self.work += (len * n) as u64;
         if len == 0 {
             out.iter_mut().for_each(|y| *y = 0.0);
+            side.iter_mut().for_each(|y| *y = 0.0);
             return;
         }
         // Conservatively ringing until the next flush looks at the state.
         self.ringing = true;
-        let mut acc = Acc([[0.0; LANES]; BLOCK]);
-        for (x, y) in input[..n].chunks(BLOCK).zip(out[..n].chunks_mut(BLOCK)) {
-            let rows = &mut acc.0[..x.len()];
-            rows.iter_mut().for_each(|r| *r = [0.0; LANES]);
-            let mut m = Modes {
-                re: &mut self.re[..len],
-                im: &mut self.im[..len],
-                c: &self.c[..len],
-                s: &self.s[..len],
-                g: &self.g[..len],
-            };
-            match self.kernel {
-                #[cfg(target_arch = "x86_64")]
-                Kernel::Avx2Fma => x86::avx2_fma(&mut m, x, &mut acc),
-                #[cfg(target_arch = "x86_64")]
-                Kernel::Sse2 => x86::sse2(&mut m, x, &mut acc),
-                _ => scalar(&mut m, x, &mut acc),
+        let (acc, acc_side) = (&mut *self.acc, &mut *self.acc_side);
+        let mut done = 0;
+        while done < n {
+            let end = (done + BLOCK).min(n);
+            let x = &input[done..end];
+            acc.0[..x.len()].iter_mut().for_each(|r| *r = [0.0; LANES]);
+            if ST {
+                acc_side.0[..x.len()]
+                    .iter_mut()
+                    .for_each(|r| *r = [0.0; LANES]);
             }
-            for (yt, a) in y.iter_mut().zip(&acc.0[..x.len()]) {
-                *yt = ((a[0] + a[1]) + (a[2] + a[3])) + ((a[4] + a[5]) + (a[6] + a[7]));
+            for (a, b) in ranges {
+                if a == b {
+                    continue;
+                }
+                let mut m = Modes {
+                    re: &mut self.re[a..b],
+                    im: &mut self.im[a..b],
+                    c: &self.c[a..b],
+                    s: &self.s[a..b],
+                    g: &self.g[a..b],
+                    d: &self.d[a..b],
+                };
+                match self.kernel {
+                    #[cfg(target_arch = "x86_64")]
+                    Kernel::Avx2Fma => x86::avx2_fma::<ST>(&mut m, x, acc, acc_side),
+                    #[cfg(target_arch = "x86_64")]
+                    Kernel::Sse2 => x86::sse2::<ST>(&mut m, x, acc, acc_side),
+                    _ => scalar::<ST>(&mut m, x, acc, acc_side),
+                }
             }
+            for (yt, a) in out[done..end].iter_mut().zip(&acc.0[..x.len()]) {
+                *yt = lane_sum(a);
+            }
+            if ST {
+                for (yt, a) in side[done..end].iter_mut().zip(&acc_side.0[..x.len()]) {
+                    *yt = lane_sum(a);
+                }
+            }
+            done = end;
         }
     }
+}
+
+/// The lanes of one accumulator row, summed in a fixed order.
+#[inline]
+fn lane_sum(a: &[f32; LANES]) -> f32 {
+    ((a[0] + a[1]) + (a[2] + a[3])) + ((a[4] + a[5]) + (a[6] + a[7]))
 }
 
 /// The processed part of the bank's arrays (all the same length, a multiple of [`LANES`]).
@@ -324,25 +428,36 @@ struct Modes<'a> {
     c: &'a [f32],
     s: &'a [f32],
     g: &'a [f32],
+    d: &'a [f32],
 }
 
 /// The reference kernel: for each group of [`LANES`] modes, for each sample,
-/// `z ← p·z + g·x` and `acc[t] += Im z`, in exactly the order the SSE2 kernel uses.
-fn scalar(m: &mut Modes<'_>, x: &[f32], acc: &mut Acc) {
+/// `z ← p·z + g·x`, `acc[t] += Im z` (and, stereo, `side[t] += d·Im z`), in exactly the
+/// order the SSE2 kernel uses.
+fn scalar<const ST: bool>(
+    m: &mut Modes<'_>,
+    x: &[f32],
+    acc: &mut Acc,
+    side: &mut Acc,
+) {
     for o in (0..m.c.len()).step_by(LANES) {
         let lanes = o..o + LANES;
         let c: [f32; LANES] = m.c[lanes.clone()].try_into().expect("whole group");
         let s: [f32; LANES] = m.s[lanes.clone()].try_into().expect("whole group");
         let g: [f32; LANES] = m.g[lanes.clone()].try_into().expect("whole group");
+        let d: [f32; LANES] = m.d[lanes.clone()].try_into().expect("whole group");
         let mut re: [f32; LANES] = m.re[lanes.clone()].try_into().expect("whole group");
         let mut im: [f32; LANES] = m.im[lanes.clone()].try_into().expect("whole group");
-        for (&xt, a) in x.iter().zip(acc.0.iter_mut()) {
+        for (t, &xt) in x.iter().enumerate() {
             for l in 0..LANES {
                 let nr = (c[l] * re[l] - s[l] * im[l]) + g[l] * xt;
                 let ni = s[l] * re[l] + c[l] * im[l];
                 re[l] = nr;
                 im[l] = ni;
-                a[l] += ni;
+                acc.0[t][l] += ni;
+                if ST {
+                    side.0[t][l] += d[l] * ni;
+                }
             }
         }
         m.re[lanes.clone()].copy_from_slice(&re);
@@ -364,7 +479,12 @@ mod x86 {
     /// Groups interleaved by the SSE2 kernel (2 × 8 = 16 modes in flight).
     const G_SSE: usize = 2;
 
-    pub(super) fn avx2_fma(m: &mut Modes<'_>, x: &[f32], acc: &mut Acc) {
+    pub(super) fn avx2_fma<const ST: bool>(
+        m: &mut Modes<'_>,
+        x: &[f32],
+        acc: &mut Acc,
+        side: &mut Acc,
+    ) {
         assert!(super::Kernel::Avx2Fma.is_available());
         let groups = m.c.len() / LANES;
         let mut k = 0;
@@ -375,39 +495,52 @@ mod x86 {
             // bounds they check themselves.
             unsafe {
                 if step == G_AVX {
-                    avx2_groups::<G_AVX>(m, k * LANES, x, acc);
+                    avx2_groups::<G_AVX, ST>(m, k * LANES, x, acc, side);
                 } else {
-                    avx2_groups::<1>(m, k * LANES, x, acc);
+                    avx2_groups::<1, ST>(m, k * LANES, x, acc, side);
                 }
             }
             k += step;
         }
     }
 
-    pub(super) fn sse2(m: &mut Modes<'_>, x: &[f32], acc: &mut Acc) {
+    pub(super) fn sse2<const ST: bool>(
+        m: &mut Modes<'_>,
+        x: &[f32],
+        acc: &mut Acc,
+        side: &mut Acc,
+    ) {
         let groups = m.c.len() / LANES;
         let mut k = 0;
         while k < groups {
             if groups - k >= G_SSE {
-                sse2_groups::<G_SSE>(m, k * LANES, x, acc);
+                sse2_groups::<G_SSE, ST>(m, k * LANES, x, acc, side);
                 k += G_SSE;
             } else {
-                sse2_groups::<1>(m, k * LANES, x, acc);
+                sse2_groups::<1, ST>(m, k * LANES, x, acc, side);
                 k += 1;
             }
         }
     }
 
     /// `G` groups starting at mode `o`, AVX2 + FMA: per sample
-    /// `re ← c·re + (g·x − s·im)`, `im ← s·re + c·im` (fused), `acc[t] += im`.
+    /// `re ← c·re + (g·x − s·im)`, `im ← s·re + c·im` (fused), `acc[t] += im` and, stereo,
+    /// `side[t] += d·im` (fused).
     ///
     /// # Safety
     /// The CPU must support AVX2 and FMA.
     #[target_feature(enable = "avx2,fma")]
     #[allow(unused_unsafe)] // value intrinsics are safe here from Rust 1.87; MSRV is 1.85
-    unsafe fn avx2_groups<const G: usize>(m: &mut Modes<'_>, o: usize, x: &[f32], acc: &mut Acc) {
+    unsafe fn avx2_groups<const G: usize, const ST: bool>(
+        m: &mut Modes<'_>,
+        o: usize,
+        x: &[f32],
+        acc: &mut Acc,
+        side: &mut Acc,
+    ) {
         assert!(o + G * LANES <= m.c.len() && m.re.len() == m.c.len());
         assert!(m.im.len() == m.c.len() && m.s.len() == m.c.len() && m.g.len() == m.c.len());
+        assert!(m.d.len() == m.c.len());
         assert!(x.len() <= BLOCK);
         // SAFETY: every pointer below addresses `o + k·LANES .. o + (k+1)·LANES` with
         // k < G, inside the five arrays (asserted above), or row t < x.len() ≤ BLOCK of
@@ -421,6 +554,7 @@ mod x86 {
             let mut c = [_mm256_setzero_ps(); G];
             let mut s = [_mm256_setzero_ps(); G];
             let mut g = [_mm256_setzero_ps(); G];
+            let mut d = [_mm256_setzero_ps(); G];
             for k in 0..G {
                 let p = o + k * LANES;
                 re[k] = _mm256_loadu_ps(pre.add(p));
@@ -428,12 +562,22 @@ mod x86 {
                 c[k] = _mm256_loadu_ps(m.c.as_ptr().add(p));
                 s[k] = _mm256_loadu_ps(m.s.as_ptr().add(p));
                 g[k] = _mm256_loadu_ps(m.g.as_ptr().add(p));
+                if ST {
+                    d[k] = _mm256_loadu_ps(m.d.as_ptr().add(p));
+                }
             }
             let pacc = acc.0.as_mut_ptr() as *mut f32;
+            let pside = side.0.as_mut_ptr() as *mut f32;
             for (t, &xt) in x.iter().enumerate() {
                 let xv = _mm256_set1_ps(xt);
                 let row = pacc.add(t * LANES);
+                let row_side = pside.add(t * LANES);
                 let mut a = _mm256_load_ps(row);
+                let mut b = if ST {
+                    _mm256_load_ps(row_side)
+                } else {
+                    _mm256_setzero_ps()
+                };
                 for k in 0..G {
                     let gx = _mm256_mul_ps(g[k], xv);
                     let nr = _mm256_fmadd_ps(c[k], re[k], _mm256_fnmadd_ps(s[k], im[k], gx));
@@ -441,8 +585,14 @@ mod x86 {
                     re[k] = nr;
                     im[k] = ni;
                     a = _mm256_add_ps(a, ni);
+                    if ST {
+                        b = _mm256_fmadd_ps(d[k], ni, b);
+                    }
                 }
                 _mm256_store_ps(row, a);
+                if ST {
+                    _mm256_store_ps(row_side, b);
+                }
             }
             for k in 0..G {
                 let p = o + k * LANES;
@@ -453,12 +603,19 @@ mod x86 {
     }
 
     /// `G` groups starting at mode `o`, SSE2 (two 4-lane halves per group): per sample
-    /// `re ← (c·re − s·im) + g·x`, `im ← s·re + c·im`, `acc[t] += im`, rounded exactly as
-    /// the scalar kernel rounds.
+    /// `re ← (c·re − s·im) + g·x`, `im ← s·re + c·im`, `acc[t] += im` and, stereo,
+    /// `side[t] += d·im`, rounded exactly as the scalar kernel rounds.
     #[allow(unused_unsafe)] // value intrinsics are safe here from Rust 1.87; MSRV is 1.85
-    fn sse2_groups<const G: usize>(m: &mut Modes<'_>, o: usize, x: &[f32], acc: &mut Acc) {
+    fn sse2_groups<const G: usize, const ST: bool>(
+        m: &mut Modes<'_>,
+        o: usize,
+        x: &[f32],
+        acc: &mut Acc,
+        side: &mut Acc,
+    ) {
         assert!(o + G * LANES <= m.c.len() && m.re.len() == m.c.len());
         assert!(m.im.len() == m.c.len() && m.s.len() == m.c.len() && m.g.len() == m.c.len());
+        assert!(m.d.len() == m.c.len());
         assert!(x.len() <= BLOCK);
         // SAFETY: SSE2 is part of the x86-64 baseline. Every pointer addresses
         // `o + k·LANES + h·4 .. +4` with k < G, h < 2, inside the five arrays (asserted
@@ -470,6 +627,7 @@ mod x86 {
             let z = _mm_setzero_ps();
             let (mut re, mut im) = ([[z; 2]; G], [[z; 2]; G]);
             let (mut c, mut s, mut g) = ([[z; 2]; G], [[z; 2]; G], [[z; 2]; G]);
+            let mut d = [[z; 2]; G];
             for k in 0..G {
                 for h in 0..2 {
                     let p = o + k * LANES + 4 * h;
@@ -478,14 +636,18 @@ mod x86 {
                     c[k][h] = _mm_loadu_ps(m.c.as_ptr().add(p));
                     s[k][h] = _mm_loadu_ps(m.s.as_ptr().add(p));
                     g[k][h] = _mm_loadu_ps(m.g.as_ptr().add(p));
+                    d[k][h] = _mm_loadu_ps(m.d.as_ptr().add(p));
                 }
             }
             let pacc = acc.0.as_mut_ptr() as *mut f32;
+            let pside = side.0.as_mut_ptr() as *mut f32;
             for (t, &xt) in x.iter().enumerate() {
                 let xv = _mm_set1_ps(xt);
                 for h in 0..2 {
                     let row = pacc.add(t * LANES + 4 * h);
+                    let row_side = pside.add(t * LANES + 4 * h);
                     let mut a = _mm_load_ps(row);
+                    let mut b = if ST { _mm_load_ps(row_side) } else { z };
                     for k in 0..G {
                         let cr = _mm_mul_ps(c[k][h], re[k][h]);
                         let si = _mm_mul_ps(s[k][h], im[k][h]);
@@ -497,8 +659,14 @@ mod x86 {
                         re[k][h] = nr;
                         im[k][h] = ni;
                         a = _mm_add_ps(a, ni);
+                        if ST {
+                            b = _mm_add_ps(b, _mm_mul_ps(d[k][h], ni));
+                        }
                     }
                     _mm_store_ps(row, a);
+                    if ST {
+                        _mm_store_ps(row_side, b);
+                    }
                 }
             }
             for k in 0..G {
@@ -538,7 +706,7 @@ mod tests {
             let mut b = ModalBank::new(1);
             assert!(b.set_kernel(kernel));
             let (c, s) = phasor_coeffs(f, tau, fs);
-            b.set_mode(0, ModeCoeffs { c, s, g });
+            b.set_mode(0, ModeCoeffs { c, s, g, d: 0.0 });
             b.set_active(1);
             let mut x = vec![0.0f32; 4_800];
             x[0] = 1.0;
@@ -559,7 +727,7 @@ mod tests {
     fn flush_leaves_no_subnormal_state() {
         let mut b = ModalBank::new(8);
         let (c, s) = phasor_coeffs(440.0, 0.001, 48_000.0);
-        b.set_mode(3, ModeCoeffs { c, s, g: 1.0 });
+        b.set_mode(3, ModeCoeffs { c, s, g: 1.0, d: 0.0 });
         b.set_active(8);
         let mut x = vec![0.0f32; 64];
         x[0] = 1.0;
@@ -590,7 +758,9 @@ mod tests {
                 0.005 * 400f64.powf(((k * 37) % 17) as f64 / 16.0)
             };
             let (c, s) = phasor_coeffs(f, tau, fs);
-            b.set_mode(k, ModeCoeffs { c, s, g: 1e-3 });
+            // Side weights in [−1, 1], different per lane.
+            let d = ((k * 7) % 9) as f32 / 4.0 - 1.0;
+            b.set_mode(k, ModeCoeffs { c, s, g: 1e-3, d });
         }
         b.set_active(n);
         b
@@ -662,6 +832,67 @@ mod tests {
     }
 
     const CHUNK_FOR_TEST: usize = crate::CHUNK;
+
+    fn render_stereo(b: &mut ModalBank, x: &[f32], chunk: usize) -> (Vec<f32>, Vec<f32>) {
+        let mut mid = vec![0.0f32; x.len()];
+        let mut side = vec![0.0f32; x.len()];
+        for ((xc, m), s) in x
+            .chunks(chunk)
+            .zip(mid.chunks_mut(chunk))
+            .zip(side.chunks_mut(chunk))
+        {
+            b.process_stereo(xc, m, s);
+            b.flush();
+        }
+        (mid, side)
+    }
+
+    /// The stereo kernel's mid is the mono kernel's output bit for bit, and its side is
+    /// Σ dₖ·Im zₖ: checked against per-mode renders (each mode alone, weighted by dₖ), for
+    /// every kernel, with a tail range as the object uses it.
+    #[test]
+    fn stereo_mid_is_the_mono_output_and_side_is_the_weighted_sum() {
+        let x = test_input(20_000);
+        for kernel in Kernel::ALL.into_iter().filter(|k| k.is_available()) {
+            let mono = render(&mut test_bank(40, kernel), &x, CHUNK_FOR_TEST);
+            let (mid, side) = render_stereo(&mut test_bank(40, kernel), &x, CHUNK_FOR_TEST);
+            assert_eq!(mid, mono, "{kernel:?}: mid differs from the mono output");
+            // The side from single-mode banks weighted by d, summed in f64.
+            let mut want = vec![0.0f64; x.len()];
+            let full = test_bank(40, kernel);
+            for k in 0..40 {
+                let mut one = ModalBank::new(1);
+                assert!(one.set_kernel(kernel));
+                let m = full.mode(k);
+                one.set_mode(0, ModeCoeffs { d: 0.0, ..m });
+                one.set_active(1);
+                let y = render(&mut one, &x, CHUNK_FOR_TEST);
+                for (w, v) in want.iter_mut().zip(&y) {
+                    *w += f64::from(m.d) * f64::from(*v);
+                }
+            }
+            let peak = want.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            let err = side
+                .iter()
+                .zip(&want)
+                .fold(0.0f64, |a, (s, w)| a.max((f64::from(*s) - w).abs()));
+            // f32 accumulation of 40 terms: a few ulps of the peak.
+            assert!(peak > 1e-4 && err < 1e-5 * peak, "{kernel:?}: {err} vs {peak}");
+        }
+        // A tail range beyond the prefix is processed too, and only it.
+        let mut b = ModalBank::new(64);
+        let (c, s) = phasor_coeffs(1_000.0, 0.1, 48_000.0);
+        b.set_mode(50, ModeCoeffs { c, s, g: 1.0, d: 0.5 });
+        b.set_active(0);
+        b.set_tail(50, 1);
+        assert_eq!(b.tail(), (48, 8));
+        let mut x = vec![0.0f32; 64];
+        x[0] = 1.0;
+        let (mut m, mut sd) = (vec![0.0f32; 64], vec![0.0f32; 64]);
+        b.process_stereo(&x, &mut m, &mut sd);
+        assert!(m[10] != 0.0 && (sd[10] - 0.5 * m[10]).abs() < 1e-7);
+        assert_eq!(b.mode_samples(), 8 * 64);
+    }
 
     #[test]
     fn output_does_not_depend_on_the_block_length() {

@@ -1,67 +1,119 @@
-//! The resonant object: shape × material × size → the modes of a [`ModalBank`].
+//! The resonant object: shape × material × size → the modes of a [`ModalBank`], heard at two
+//! pickups, with a high band that carries the spectrum above the explicit modes.
 //!
-//! CMJ "Object part" and "Intuitive control" (after Aramaki et al. 2011): for mode k of the
-//! chosen [`Shape`], with f₁ = 100 Hz·(1 m / object size):
+//! CMJ "Object part" and "Intuitive control" (after Aramaki et al. 2011), docs/MODEL.md §6.
+//! For mode k of the chosen [`Shape`], with f₁ = 100 Hz·(1 m / object size):
 //!
-//! * frequency fₖ = f₁·ratioₖ; modes at or above Nyquist are dropped (no input, and they
-//!   ring out if they were sounding);
+//! * frequency fₖ = f₁·ratioₖ; explicit modes at or above Nyquist are dropped (no input,
+//!   and they ring out if they were sounding);
 //! * decay time τₖ = decay·/α(2πfₖ) from the [`Material`] (bounded 0.2 ms … 60 s);
-//! * amplitude aₖ = weightₖ·ratioₖ^tilt, and the input gain
-//!   gₖ = G·aₖ/(f_s·√(Σⱼ aⱼ²τⱼ)) — the 1/f_s makes the discrete bank approximate the same
-//!   continuous-time convolution at every sample rate, and the √(Σ a²τ) keeps the loudness
-//!   of a sustained excitation constant when the material, decay or mode count change (a
-//!   metal object is not 20 dB louder than a wooden one; it rings longer).
+//! * amplitude aₖ = ratioₖ^tilt (the material's spectral balance);
+//! * **where the ball is and where it is heard** (docs/MODEL.md §6, "Stereo from mode
+//!   shapes"): the force enters mode k with the mode shape at the ball, eₖ = φₖ(ball), and
+//!   each channel hears it through the magnitude of the mode shape at its pickup,
+//!   pₖ = |φₖ(pickup)| ([`crate::shape::PositionShapes`]). The two pickups sit
+//!   [`PICKUP_HALF_SPACING`] either side of the listening point along x (reflected at the
+//!   edges). Each channel's pickup gains are scaled so that their weighted mean square over
+//!   the object's modes is 1 (qₖ = pₖ/B): left and right are equally loud on average and
+//!   the ball's position, not the pickups', moves the image. The sign of φ at a pickup is
+//!   dropped: two real contact microphones hear some modes in antiphase, which is what
+//!   makes a close-miked plate collapse in mono; keeping the magnitude makes L + R never
+//!   weaker than either channel.
+//! * **width** w: mid mₖ = (qₖᴸ + qₖᴿ)/2, side sₖ = w·(qₖᴸ − qₖᴿ)/2; L = mid + side,
+//!   R = mid − side. The bank folds the mid into the input gain and keeps dₖ = sₖ/mₖ
+//!   (|dₖ| ≤ w) as the mode's side weight ([`crate::modal`]), so L + R is the mono object at
+//!   every width.
+//! * **level**: the input gain is gₖ = G·aₖ·eₖ·mₖ/(f_s·√E) with E = Σⱼ (aⱼ·eⱼ·mⱼ)²·τⱼ over
+//!   every mode below [`HIGH_BAND_TOP_HZ`] (explicit and high band). The 1/f_s makes the
+//!   discrete bank approximate the same continuous-time convolution at every sample rate;
+//!   the √E keeps the loudness of a broadband (white) force constant whatever the
+//!   material, decay, mode count, quality or ball position (a metal object is not 20 dB
+//!   louder than a wooden one; it rings longer).
+//!
+//! ## The high band (docs/MODEL.md §6, "Full band")
+//! A real object keeps resonating up the audible band; above its N explicit modes the
+//! object here still carries every mode of its series up to min(Nyquist, 24 kHz), through a
+//! few representative modes: the band above the last explicit mode is cut into at most
+//! [`Quality::high_slots`] groups, equal in log frequency; each group is played by one
+//! true mode of the series (its middle one, with its own frequency and decay), whose gains
+//! carry the group's energy in the mid and in the side, estimated from up to
+//! [`HIGH_SAMPLES`] of the group's modes at the ball and at the pickups. Where the series
+//! above the explicit modes has no more modes than slots (a bar, a small object), every
+//! one of them is played exactly: sparse shapes keep their partials all the way up. The
+//! representatives share the bank (its tail range) and cost what a mode costs.
 //!
 //! Modes beyond the requested count keep ringing with zero input until they have decayed,
 //! so lowering the mode count never clicks.
 //!
 //! ## Level of detail (docs/MODEL.md "Speed and accuracy")
-//! * **Budget**: the [`Quality`] caps the number of modes ([`Quality::max_modes`]).
-//! * **Culling**: a mode whose level aₖ²·τₖ (its share of the output power under a
-//!   broadband excitation, the quantity the normalization above sums) lies more than
-//!   [`Quality::cull_db`] below the loudest mode's gets no input; like a mode above
-//!   Nyquist it keeps its pole and rings out, and it is processed only while it rings.
-//!   The normalization still counts it, so culling never changes the loudness. Because
-//!   the input gain is real (see [`crate::modal`]), switching a mode's input on or off
-//!   reaches the output only through its rotation: culling and un-culling never click.
-//!   The table's objects span at most about 86 dB between their loudest and quietest
-//!   modes (a 5 m wooden bar with decay ×30), so −90 dB (quality high) culls only beyond
-//!   that; −70 and −50 dB (normal, draft) cull the quiet tail of large, long-ringing
-//!   objects. Culling saves work in whole groups of [`LANES`] modes at the top of the
-//!   index range (the bank processes a prefix); a culled mode amid sounding ones costs as
-//!   before but no longer needs its input.
+//! * **Budget**: the [`Quality`] caps the explicit modes ([`Quality::max_modes`]) and the
+//!   high band's slots ([`Quality::high_slots`]); `reference` plays every mode explicitly.
+//! * **Culling**: an explicit mode whose level (aₖ·eₖ·mₖ)²·τₖ (its share of the output
+//!   power under a broadband excitation) lies more than [`Quality::cull_db`] below the
+//!   loudest mode's gets no input; like a mode above Nyquist it keeps its pole and rings
+//!   out, and it is processed only while it rings. The normalization still counts it, so
+//!   culling never changes the loudness. Because the input gain is real (see
+//!   [`crate::modal`]), switching a mode's input on or off reaches the output only through
+//!   its rotation: culling and un-culling never click.
 //! * **Silence**: when the bank has rung out (all state flushed to zero) and a chunk's
 //!   input is exactly zero, [`Object::process_chunk`] writes zeros without touching a mode.
+//!
+//! ## Updates
+//! Poles are recomputed only when the material, size, decay, shape, mode count or quality
+//! move; the pickups' gains when the listening point or the width move; the input gains
+//! when the ball moves (a few multiply–adds per mode: the mode shapes come from
+//! recurrences, not a sine per mode).
 
 use crate::material::Material;
 use crate::modal::{phasor_coeffs, ModalBank, ModeCoeffs, LANES};
 use crate::params::{ParamEnum, ParamId};
-use crate::shape::{Shape, ShapeTables, MAX_MODES};
+use crate::shape::{PositionShapes, Shape, ShapeTables, MAX_MODES, REFERENCE_MODES};
 use crate::smooth::Smoother;
 
-/// Output level constant G (calibrated so the default scene plays around −20 dBFS RMS, peaks near −5 dBFS).
+/// Output level constant G (calibrated so the default scene plays around −20 dBFS RMS).
 pub const OBJECT_LEVEL: f64 = 300.0;
 
 /// Lowest mode frequency (Hz) the object will sound: first modes of huge objects below this
 /// are dropped like modes above Nyquist.
 pub const MIN_MODE_HZ: f64 = 10.0;
 
-/// The accuracy/cost budget (the `quality` parameter): mode cap, culling threshold and the
-/// physics engine's oversampling.
+/// The object's modes are carried up to min(Nyquist, this) by the high band and the
+/// `reference` quality: the audible band, the same at every sample rate.
+pub const HIGH_BAND_TOP_HZ: f64 = 24_000.0;
+
+/// Most high-band slots any quality uses.
+pub const HIGH_SLOTS_MAX: usize = 48;
+
+/// Modes of a high-band group sampled to estimate its energy at the ball and the pickups.
+pub const HIGH_SAMPLES: usize = 8;
+
+/// Distance of each pickup from the listening point along x (normalised coordinates: the
+/// pair spans half the object).
+pub const PICKUP_HALF_SPACING: f64 = 0.5;
+
+/// Bank slot of the first high-band representative (after every explicit mode).
+const HIGH_BASE: usize = REFERENCE_MODES;
+
+/// The accuracy/cost budget (the `quality` parameter): mode cap, high-band slots, culling
+/// threshold and the physics engine's oversampling.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Quality {
-    /// At most 16 modes, culling at −50 dB, physics RK4 at one step per sample.
+    /// At most 16 modes, 8 high-band slots, culling at −50 dB, physics RK4 at one step per
+    /// sample.
     Draft,
-    /// At most 64 modes, culling at −70 dB, automatic physics oversampling.
+    /// At most 64 modes, 16 high-band slots, culling at −70 dB, automatic physics
+    /// oversampling.
     Normal,
-    /// Every requested mode (≤ 256), culling at −90 dB, automatic physics oversampling.
+    /// Every requested mode (≤ 256), 24 high-band slots, culling at −90 dB, automatic
+    /// physics oversampling.
     #[default]
     High,
-    /// Every requested mode, no culling, physics RK4 at the maximum oversampling.
+    /// Every requested mode, 48 high-band slots, no culling, physics RK4 at the maximum
+    /// oversampling.
     Ultra,
-    /// Every mode of the shape's series below Nyquist explicitly (up to
-    /// [`crate::shape::REFERENCE_MODES`]), no high band, no culling, long decays in f64: the
-    /// judge the other qualities are measured against. Offline only (thousands of modes).
+    /// Every mode of the shape's series below min(Nyquist, [`HIGH_BAND_TOP_HZ`]) explicitly
+    /// (up to [`REFERENCE_MODES`]), no high band, no culling: the judge the other qualities
+    /// are measured against. Offline only (thousands of modes).
     Reference,
 }
 
@@ -78,17 +130,28 @@ impl ParamEnum for Quality {
 }
 
 impl Quality {
-    /// Largest number of modes the object sounds.
+    /// Largest number of explicit modes the object sounds.
     pub fn max_modes(self) -> usize {
         match self {
             Quality::Draft => 16,
             Quality::Normal => 64,
             Quality::High | Quality::Ultra => MAX_MODES,
-            Quality::Reference => crate::shape::REFERENCE_MODES,
+            Quality::Reference => REFERENCE_MODES,
         }
     }
 
-    /// Modes whose level aₖ²·τₖ is this many dB below the loudest mode's get no input
+    /// Representative modes of the high band (0: none).
+    pub fn high_slots(self) -> usize {
+        match self {
+            Quality::Draft => 8,
+            Quality::Normal => 16,
+            Quality::High => 24,
+            Quality::Ultra => HIGH_SLOTS_MAX,
+            Quality::Reference => 0,
+        }
+    }
+
+    /// Modes whose level is this many dB below the loudest mode's get no input
     /// (−∞: no culling).
     pub fn cull_db(self) -> f64 {
         match self {
@@ -121,10 +184,14 @@ pub struct ObjectControls {
     pub size_m: f64,
     /// Mode series.
     pub shape: Shape,
-    /// Requested number of modes (1…256).
+    /// Requested number of explicit modes (1…256).
     pub modes: usize,
     /// Decay time multiplier.
     pub decay: f64,
+    /// The listening point (normalised), the centre of the two pickups.
+    pub listen: (f64, f64),
+    /// Stereo width w ∈ [0, 1].
+    pub width: f64,
 }
 
 impl Default for ObjectControls {
@@ -136,6 +203,8 @@ impl Default for ObjectControls {
             shape: Shape::Plate,
             modes: 32,
             decay: 1.0,
+            listen: (0.0, -0.4),
+            width: 0.8,
         }
     }
 }
@@ -146,6 +215,25 @@ pub fn first_mode_hz(size_m: f64) -> f64 {
     100.0 / size_m.max(1e-3)
 }
 
+/// The two pickups for a listening point: ±[`PICKUP_HALF_SPACING`] along x, reflected at
+/// the edges (normalised coordinates).
+pub fn pickups(listen: (f64, f64)) -> [(f64, f64); 2] {
+    let reflect = |x: f64| {
+        if x > 1.0 {
+            2.0 - x
+        } else if x < -1.0 {
+            -2.0 - x
+        } else {
+            x
+        }
+    };
+    let (x, y) = (listen.0.clamp(-1.0, 1.0), listen.1.clamp(-1.0, 1.0));
+    [
+        (reflect(x - PICKUP_HALF_SPACING), y),
+        (reflect(x + PICKUP_HALF_SPACING), y),
+    ]
+}
+
 /// One computed mode (for tests, the editor and analysis).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ModeInfo {
@@ -153,28 +241,92 @@ pub struct ModeInfo {
     pub freq_hz: f64,
     /// 1/e decay time in seconds.
     pub decay_s: f64,
-    /// Input gain gₖ (0 for a dropped mode).
+    /// Input gain gₖ (the mid gain folded in; 0 for a dropped or culled mode; negative
+    /// where the ball sits on a negative lobe of the mode shape).
     pub gain: f64,
+    /// Side weight dₖ: the left channel hears gₖ·(1 + dₖ), the right gₖ·(1 − dₖ).
+    pub side: f64,
+}
+
+impl ModeInfo {
+    const SILENT: ModeInfo = ModeInfo {
+        freq_hz: 0.0,
+        decay_s: 0.0,
+        gain: 0.0,
+        side: 0.0,
+    };
+
+    /// The mode's gain at the left and right channel: gₖ·(1 ± dₖ).
+    pub fn gains_lr(&self) -> (f64, f64) {
+        (self.gain * (1.0 + self.side), self.gain * (1.0 - self.side))
+    }
+}
+
+/// A group of high-band modes and its representative.
+#[derive(Clone, Copy, Debug)]
+struct HighGroup {
+    /// Modes in the group.
+    count: usize,
+    /// Table indices of the sampled modes.
+    samples: [usize; HIGH_SAMPLES],
+    n_samples: usize,
+    /// aₖ²·τₖ of each sample.
+    weight: [f64; HIGH_SAMPLES],
+    /// Pickup gains qᴸ, qᴿ of each sample.
+    pick: [[f64; 2]; HIGH_SAMPLES],
+    /// The representative.
+    info: ModeInfo,
+}
+
+impl HighGroup {
+    const EMPTY: HighGroup = HighGroup {
+        count: 0,
+        samples: [0; HIGH_SAMPLES],
+        n_samples: 0,
+        weight: [0.0; HIGH_SAMPLES],
+        pick: [[0.0; 2]; HIGH_SAMPLES],
+        info: ModeInfo::SILENT,
+    };
 }
 
 /// The resonant object.
 ///
 /// # Allocation
-/// `new` allocates the shape tables and the bank; nothing else allocates.
+/// `new` and `set_sample_rate` allocate the shape tables and the bank; nothing else
+/// allocates.
 #[derive(Clone, Debug)]
 pub struct Object {
     fs: f64,
     tables: ShapeTables,
     bank: ModalBank,
-    info: [ModeInfo; MAX_MODES],
+    /// Explicit modes, by table index.
+    info: Vec<ModeInfo>,
+    /// aₖ (0: not sounding) of each explicit mode.
+    amp: Vec<f64>,
+    /// Pickup gains qᴸ, qᴿ of each explicit mode.
+    pick: Vec<[f64; 2]>,
+    high: [HighGroup; HIGH_SLOTS_MAX],
+    n_high: usize,
     shape: Shape,
+    /// Explicit modes in use (the request capped by the quality).
     modes: usize,
+    /// Modes of the table below min(Nyquist, [`HIGH_BAND_TOP_HZ`]) at the last pole update.
+    top: usize,
     material_x: Smoother,
     material_y: Smoother,
     /// Smoothed in log(size) so glides are even in pitch.
     log_size: Smoother,
     log_decay: Smoother,
-    dirty: bool,
+    listen_x: Smoother,
+    listen_y: Smoother,
+    width: Smoother,
+    ball: (f64, f64),
+    ball_shapes: PositionShapes,
+    pick_shapes: [PositionShapes; 2],
+    poles_dirty: bool,
+    pickups_dirty: bool,
+    gains_dirty: bool,
+    high_band: bool,
     quality: Quality,
     /// The mode count asked for (`modes` is this capped by the quality).
     requested: usize,
@@ -187,22 +339,44 @@ pub struct Object {
 impl Object {
     /// An object at `sample_rate_hz` (sanitized).
     pub fn new(sample_rate_hz: f64, c: ObjectControls) -> Self {
+        let tables = ShapeTables::new();
+        let max_index = Shape::ALL
+            .iter()
+            .map(|&s| {
+                let (a, b) = tables.max_index(s);
+                a.max(b)
+            })
+            .max()
+            .unwrap_or(1);
         let mut o = Self {
             fs: crate::sanitize_sample_rate(sample_rate_hz),
-            tables: ShapeTables::new(),
-            bank: ModalBank::new(MAX_MODES),
-            info: [ModeInfo {
-                freq_hz: 0.0,
-                decay_s: 0.0,
-                gain: 0.0,
-            }; MAX_MODES],
+            tables,
+            bank: ModalBank::new(HIGH_BASE + HIGH_SLOTS_MAX),
+            info: vec![ModeInfo::SILENT; REFERENCE_MODES],
+            amp: vec![0.0; REFERENCE_MODES],
+            pick: vec![[0.0; 2]; REFERENCE_MODES],
+            high: [HighGroup::EMPTY; HIGH_SLOTS_MAX],
+            n_high: 0,
             shape: c.shape,
             modes: c.modes.clamp(1, MAX_MODES),
+            top: 0,
             material_x: Smoother::new(c.material_x),
             material_y: Smoother::new(c.material_y),
             log_size: Smoother::new(c.size_m.max(1e-3).ln()),
             log_decay: Smoother::new(c.decay.max(1e-3).ln()),
-            dirty: true,
+            listen_x: Smoother::new(c.listen.0),
+            listen_y: Smoother::new(c.listen.1),
+            width: Smoother::new(c.width),
+            ball: (0.3, 0.2),
+            ball_shapes: PositionShapes::new(max_index),
+            pick_shapes: [
+                PositionShapes::new(max_index),
+                PositionShapes::new(max_index),
+            ],
+            poles_dirty: true,
+            pickups_dirty: true,
+            gains_dirty: true,
+            high_band: true,
             quality: Quality::default(),
             requested: c.modes.clamp(1, MAX_MODES),
             cull_ratio: db_to_power(Quality::default().cull_db()),
@@ -213,11 +387,11 @@ impl Object {
         o
     }
 
-    /// Change the sample rate (no allocation needed) and reset.
+    /// Change the sample rate (allocates the bank) and reset.
     pub fn set_sample_rate(&mut self, sample_rate_hz: f64) {
         self.fs = crate::sanitize_sample_rate(sample_rate_hz);
-        self.bank = ModalBank::new(MAX_MODES);
-        self.dirty = true;
+        self.bank = ModalBank::new(HIGH_BASE + HIGH_SLOTS_MAX);
+        self.poles_dirty = true;
         self.update();
     }
 
@@ -234,25 +408,59 @@ impl Object {
         self.material_y.set_target(c.material_y.clamp(-1.0, 1.0));
         self.log_size.set_target(c.size_m.clamp(0.01, 100.0).ln());
         self.log_decay.set_target(c.decay.clamp(1e-3, 1e3).ln());
+        self.listen_x.set_target(c.listen.0.clamp(-1.0, 1.0));
+        self.listen_y.set_target(c.listen.1.clamp(-1.0, 1.0));
+        self.width.set_target(c.width.clamp(0.0, 1.0));
         self.requested = c.modes.clamp(1, MAX_MODES);
-        let modes = self.requested.min(self.quality.max_modes());
+        let modes = self.explicit_count();
         if c.shape != self.shape || modes != self.modes {
             self.shape = c.shape;
             self.modes = modes;
-            self.dirty = true;
+            self.poles_dirty = true;
         }
     }
 
-    /// Set the budget (mode cap and culling threshold; applies at the next chunk, modes
-    /// beyond the cap ring out). Real-time safe.
+    fn explicit_count(&self) -> usize {
+        if self.quality == Quality::Reference {
+            REFERENCE_MODES
+        } else {
+            self.requested.min(self.quality.max_modes())
+        }
+    }
+
+    /// Where the ball is (normalised coordinates): the excitation point of every mode.
+    /// Applies at the next chunk. Real-time safe.
+    pub fn set_ball(&mut self, position: (f64, f64)) {
+        let p = (
+            if position.0.is_finite() {
+                position.0.clamp(-1.0, 1.0)
+            } else {
+                0.0
+            },
+            if position.1.is_finite() {
+                position.1.clamp(-1.0, 1.0)
+            } else {
+                0.0
+            },
+        );
+        if p != self.ball {
+            self.ball = p;
+            self.gains_dirty = true;
+        }
+    }
+
+    /// The ball position the gains were computed for.
+    pub fn ball(&self) -> (f64, f64) {
+        self.ball
+    }
+
+    /// Set the budget (mode cap, high-band slots, culling threshold; applies at the next
+    /// chunk, modes beyond the cap ring out). Real-time safe.
     pub fn set_quality(&mut self, quality: Quality) {
         if quality != self.quality {
             self.quality = quality;
-            let modes = self.requested.min(quality.max_modes());
-            if modes != self.modes {
-                self.modes = modes;
-                self.dirty = true;
-            }
+            self.modes = self.explicit_count();
+            self.poles_dirty = true;
             self.set_cull_db(quality.cull_db());
         }
     }
@@ -262,18 +470,27 @@ impl Object {
         self.quality
     }
 
+    /// Switch the high band on (the default) or off — for measuring what it costs and what
+    /// it adds. Applies at the next chunk; its modes ring out. Real-time safe.
+    pub fn set_high_band(&mut self, on: bool) {
+        if on != self.high_band {
+            self.high_band = on;
+            self.poles_dirty = true;
+        }
+    }
+
     /// Override the culling threshold in dB below the loudest mode (−∞ disables culling;
     /// values above 0 are treated as 0). Applies at the next chunk. Real-time safe.
     pub fn set_cull_db(&mut self, db: f64) {
         let ratio = db_to_power(db);
         if ratio != self.cull_ratio {
             self.cull_ratio = ratio;
-            self.dirty = true;
+            self.gains_dirty = true;
         }
     }
 
-    /// Number of modes culled at the last coefficient update (below the threshold: no
-    /// input, ringing out). A new threshold applies, and is counted, at the next chunk.
+    /// Number of modes culled at the last gain update (below the threshold: no input,
+    /// ringing out). A new threshold applies, and is counted, at the next chunk.
     pub fn culled_modes(&self) -> usize {
         self.culled
     }
@@ -284,19 +501,24 @@ impl Object {
         self.bank.is_silent()
     }
 
+    fn smoothers(&self) -> [&Smoother; 7] {
+        [
+            &self.material_x,
+            &self.material_y,
+            &self.log_size,
+            &self.log_decay,
+            &self.listen_x,
+            &self.listen_y,
+            &self.width,
+        ]
+    }
+
     /// True when a chunk of zero input would change nothing: rung out, no control gliding,
     /// no recomputation due. Its output is then exact zeros.
     pub fn is_idle(&self) -> bool {
         self.bank.is_silent()
-            && !self.dirty
-            && ![
-                &self.material_x,
-                &self.material_y,
-                &self.log_size,
-                &self.log_decay,
-            ]
-            .iter()
-            .any(|s| s.is_moving())
+            && !(self.poles_dirty || self.pickups_dirty || self.gains_dirty)
+            && !self.smoothers().iter().any(|s| s.is_moving())
     }
 
     /// Mode·samples the bank has processed since `new` (see
@@ -311,101 +533,339 @@ impl Object {
         self.material_y.snap_to_target();
         self.log_size.snap_to_target();
         self.log_decay.snap_to_target();
-        self.dirty = true;
+        self.listen_x.snap_to_target();
+        self.listen_y.snap_to_target();
+        self.width.snap_to_target();
+        self.poles_dirty = true;
         self.update();
     }
 
-    /// The computed modes (index order; dropped modes have gain 0).
+    /// The explicit modes (table order; dropped modes have gain 0).
     pub fn modes(&self) -> &[ModeInfo] {
-        &self.info[..]
+        let n = self.modes.min(self.info.len());
+        &self.info[..n]
     }
 
-    /// Number of modes the bank currently processes (requested ones plus any still ringing
-    /// out).
+    /// The high band's representative modes (their gains carry their groups' energy).
+    pub fn high_band(&self) -> impl Iterator<Item = ModeInfo> + '_ {
+        self.high[..self.n_high].iter().map(|g| g.info)
+    }
+
+    /// Number of modes of the series the high band stands for.
+    pub fn high_band_modes(&self) -> usize {
+        self.high[..self.n_high].iter().map(|g| g.count).sum()
+    }
+
+    /// Number of modes the bank currently processes (explicit ones plus any still ringing
+    /// out, and the high band).
     pub fn active_modes(&self) -> usize {
-        self.bank.active()
+        self.bank.active() + self.bank.tail().1
     }
 
-    /// Recompute mode coefficients from the current (smoothed) controls.
+    /// The stereo width in force (smoothed).
+    pub fn width(&self) -> f64 {
+        self.width.value()
+    }
+
     fn update(&mut self) {
+        if self.poles_dirty {
+            self.update_poles();
+        }
+        if self.pickups_dirty {
+            self.update_pickups();
+        }
+        if self.gains_dirty {
+            self.update_gains();
+        }
+    }
+
+    /// Frequencies, decays, amplitudes and poles of the explicit modes; the high band's
+    /// groups and representatives.
+    fn update_poles(&mut self) {
         let fs = self.fs;
         let material = Material::from_disk(self.material_x.value(), self.material_y.value());
         let f1 = first_mode_hz(self.log_size.value().exp());
         let decay = self.log_decay.value().exp();
         let table = self.tables.modes(self.shape);
         let nyquist = 0.5 * fs;
-        let mut energy = 0.0;
-        for (k, m) in table.iter().enumerate() {
+        let top_hz = nyquist.min(HIGH_BAND_TOP_HZ);
+        let reference = self.quality == Quality::Reference;
+        // Explicit modes: those in use, and any beyond that still ring (they keep a valid
+        // pole and ring out with no input).
+        let span = self.modes.max(self.bank.active()).min(table.len());
+        for k in 0..span {
+            let m = &table[k];
             let f = f1 * m.ratio;
-            let sounding = k < self.modes && f < nyquist && f >= MIN_MODE_HZ;
+            let limit = if reference { top_hz } else { nyquist };
+            let sounding = k < self.modes && f < limit && f >= MIN_MODE_HZ;
             let tau = material.decay_s(f, decay);
-            let a = if sounding {
-                m.weight * m.ratio.powf(material.tilt)
+            self.amp[k] = if sounding {
+                m.ratio.powf(material.tilt)
             } else {
                 0.0
             };
-            energy += a * a * tau;
-            self.info[k] = ModeInfo {
-                freq_hz: f,
-                decay_s: tau,
-                gain: a,
-            };
-        }
-        let norm = if energy > 0.0 {
-            OBJECT_LEVEL / (fs * energy.sqrt())
-        } else {
-            0.0
-        };
-        // Culling threshold on aₖ²·τₖ relative to the loudest mode (module docs).
-        let loudest = self
-            .info
-            .iter()
-            .fold(0.0f64, |m, i| m.max(i.gain * i.gain * i.decay_s));
-        let cull_below = loudest * self.cull_ratio;
-        let mut last_active = 0;
-        self.culled = 0;
-        for k in 0..MAX_MODES {
-            let info = &mut self.info[k];
-            let culled = info.gain > 0.0 && info.gain * info.gain * info.decay_s < cull_below;
-            self.culled += culled as usize;
-            info.gain *= norm;
+            self.info[k].freq_hz = f;
+            self.info[k].decay_s = tau;
             let ringing = self.bank.energy(k) > 0.0;
-            if info.gain > 0.0 && !culled {
-                let (c, s) = phasor_coeffs(info.freq_hz, info.decay_s, fs);
-                self.bank.set_mode(
-                    k,
-                    ModeCoeffs {
-                        c,
-                        s,
-                        g: info.gain as f32,
-                    },
-                );
-                last_active = k + 1;
-            } else if ringing {
-                // Dropped or culled while sounding: keep its last valid pole, stop its
-                // input, let it ring out (decay at this mode's own rate: never a click).
-                let mut mc = self.bank.mode(k);
-                mc.g = 0.0;
-                if info.freq_hz < nyquist && info.freq_hz >= MIN_MODE_HZ {
-                    let (c, s) = phasor_coeffs(info.freq_hz, info.decay_s, fs);
-                    mc.c = c;
-                    mc.s = s;
-                }
-                self.bank.set_mode(k, mc);
-                last_active = k + 1;
-            } else {
+            if (sounding || ringing) && f < nyquist && f >= MIN_MODE_HZ {
+                let (c, s) = phasor_coeffs(f, tau, fs);
+                let mc = self.bank.mode(k);
+                self.bank.set_mode(k, ModeCoeffs { c, s, ..mc });
+            } else if !ringing {
                 self.bank.set_mode(k, ModeCoeffs::default());
             }
         }
-        self.bank.set_active(last_active.div_ceil(LANES) * LANES);
-        self.dirty = false;
+        // The series up to the top of the band.
+        let first_high = self.modes.min(table.len());
+        let mut top = first_high;
+        while top < table.len() && f1 * table[top].ratio < top_hz {
+            top += 1;
+        }
+        self.top = top;
+        // High band: groups of the modes first_high..top.
+        let slots = if self.high_band && !reference {
+            self.quality.high_slots()
+        } else {
+            0
+        };
+        let old_high = self.n_high;
+        self.n_high = 0;
+        let count = top.saturating_sub(first_high);
+        if slots > 0 && count > 0 {
+            let f_lo = f1 * table[first_high].ratio;
+            let span_ln = (top_hz / f_lo).ln().max(1e-9);
+            let mut a = first_high;
+            while a < top {
+                // The group of mode a: its slot by log frequency (or itself when the band
+                // has no more modes than slots).
+                let b = if count <= slots {
+                    a + 1
+                } else {
+                    let j = ((f1 * table[a].ratio / f_lo).ln() / span_ln * slots as f64)
+                        .floor()
+                        .min(slots as f64 - 1.0);
+                    let mut b = a + 1;
+                    while b < top {
+                        let jb = ((f1 * table[b].ratio / f_lo).ln() / span_ln * slots as f64)
+                            .floor()
+                            .min(slots as f64 - 1.0);
+                        if jb != j {
+                            break;
+                        }
+                        b += 1;
+                    }
+                    b
+                };
+                let g = &mut self.high[self.n_high];
+                g.count = b - a;
+                g.n_samples = g.count.min(HIGH_SAMPLES);
+                for i in 0..g.n_samples {
+                    // Evenly spread through the group, centred in each stratum.
+                    let k = a + (2 * i + 1) * g.count / (2 * g.n_samples);
+                    let f = f1 * table[k].ratio;
+                    let tau = material.decay_s(f, decay);
+                    g.samples[i] = k;
+                    g.weight[i] = table[k].ratio.powf(2.0 * material.tilt) * tau;
+                }
+                let rep = a + g.count / 2;
+                let f = f1 * table[rep].ratio;
+                g.info.freq_hz = f;
+                g.info.decay_s = material.decay_s(f, decay);
+                let (c, s) = phasor_coeffs(f, g.info.decay_s, fs);
+                let slot = HIGH_BASE + self.n_high;
+                let mc = self.bank.mode(slot);
+                self.bank.set_mode(slot, ModeCoeffs { c, s, ..mc });
+                self.n_high += 1;
+                a = b;
+            }
+        }
+        // Slots no longer used ring out with no input.
+        for j in self.n_high..old_high.max(self.n_high) {
+            self.high[j].info.gain = 0.0;
+        }
+        self.poles_dirty = false;
+        self.pickups_dirty = true;
     }
 
-    /// Filter one chunk of force through the object (`out` overwritten).
-    pub fn process_chunk(&mut self, force: &[f32], out: &mut [f32]) {
-        let n = force.len();
+    /// Pickup gains of every explicit and sampled high-band mode, balanced per channel.
+    fn update_pickups(&mut self) {
+        let shape = self.shape;
+        let table = self.tables.modes(shape);
+        let (mi, ni) = self.tables.max_index(shape);
+        let upto = if shape == Shape::Plate {
+            // Only the indices the modes in use reach.
+            let mut u = 0usize;
+            for m in &table[..self.top.max(self.modes).min(table.len())] {
+                u = u.max(usize::from(m.m)).max(usize::from(m.n));
+            }
+            u
+        } else {
+            mi.max(ni).min(self.top.max(self.modes) + 2)
+        };
+        let p = pickups((self.listen_x.value(), self.listen_y.value()));
+        for (ps, &point) in self.pick_shapes.iter_mut().zip(p.iter()) {
+            ps.set(shape, point, upto);
+        }
+        // Balance: each channel's weighted mean square pickup gain is 1.
+        let (mut sum_w, mut sum_l, mut sum_r) = (0.0, 0.0, 0.0);
+        for k in 0..self.modes.min(table.len()) {
+            let a = self.amp[k];
+            if a == 0.0 {
+                continue;
+            }
+            let pl = self.pick_shapes[0].phi(&table[k]).abs();
+            let pr = self.pick_shapes[1].phi(&table[k]).abs();
+            self.pick[k] = [pl, pr];
+            let w = a * a * self.info[k].decay_s;
+            sum_w += w;
+            sum_l += w * pl * pl;
+            sum_r += w * pr * pr;
+        }
+        for g in self.high[..self.n_high].iter_mut() {
+            let scale = g.count as f64 / g.n_samples as f64;
+            for i in 0..g.n_samples {
+                let mode = &table[g.samples[i]];
+                let pl = self.pick_shapes[0].phi(mode).abs();
+                let pr = self.pick_shapes[1].phi(mode).abs();
+                g.pick[i] = [pl, pr];
+                let w = g.weight[i] * scale;
+                sum_w += w;
+                sum_l += w * pl * pl;
+                sum_r += w * pr * pr;
+            }
+        }
+        let bl = if sum_l > 0.0 {
+            (sum_w / sum_l).sqrt()
+        } else {
+            1.0
+        };
+        let br = if sum_r > 0.0 {
+            (sum_w / sum_r).sqrt()
+        } else {
+            1.0
+        };
+        for k in 0..self.modes.min(table.len()) {
+            if self.amp[k] != 0.0 {
+                self.pick[k] = [self.pick[k][0] * bl, self.pick[k][1] * br];
+            }
+        }
+        for g in self.high[..self.n_high].iter_mut() {
+            for i in 0..g.n_samples {
+                g.pick[i] = [g.pick[i][0] * bl, g.pick[i][1] * br];
+            }
+        }
+        self.pickups_dirty = false;
+        self.gains_dirty = true;
+    }
+
+    /// Input gains and side weights from the ball position, the pickups and the width;
+    /// the level normalization; culling.
+    fn update_gains(&mut self) {
+        let shape = self.shape;
+        let table = self.tables.modes(shape);
+        let upto = self.pick_shapes[0].evaluated().saturating_sub(1);
+        self.ball_shapes.set(shape, self.ball, upto);
+        let w = self.width.value();
+        let n = self.modes.min(table.len());
+        // Pre-normalization mid gains, and the total mid energy E.
+        let mut energy = 0.0;
+        let mut loudest = 0.0f64;
+        for k in 0..n {
+            let a = self.amp[k];
+            if a == 0.0 {
+                self.info[k].gain = 0.0;
+                self.info[k].side = 0.0;
+                continue;
+            }
+            let e = self.ball_shapes.phi(&table[k]);
+            let [ql, qr] = self.pick[k];
+            let mid = 0.5 * (ql + qr);
+            let x = a * e * mid;
+            self.info[k].gain = x;
+            self.info[k].side = if mid > 0.0 {
+                w * 0.5 * (ql - qr) / mid
+            } else {
+                0.0
+            };
+            let p = x * x * self.info[k].decay_s;
+            energy += p;
+            loudest = loudest.max(p);
+        }
+        for g in self.high[..self.n_high].iter_mut() {
+            let scale = g.count as f64 / g.n_samples as f64;
+            let (mut em, mut es, mut lr) = (0.0, 0.0, 0.0);
+            for i in 0..g.n_samples {
+                let e = self.ball_shapes.phi(&table[g.samples[i]]);
+                let [ql, qr] = g.pick[i];
+                let we = g.weight[i] * e * e;
+                em += we * 0.25 * (ql + qr) * (ql + qr);
+                es += we * 0.25 * w * w * (ql - qr) * (ql - qr);
+                lr += we * (ql * ql - qr * qr);
+            }
+            em *= scale;
+            es *= scale;
+            g.info.gain = (em / g.info.decay_s).sqrt();
+            g.info.side = if em > 0.0 {
+                (es / em).sqrt().copysign(lr)
+            } else {
+                0.0
+            };
+            energy += em;
+        }
+        let norm = if energy > 0.0 {
+            OBJECT_LEVEL / (self.fs * energy.sqrt())
+        } else {
+            0.0
+        };
+        let cull_below = loudest * self.cull_ratio;
+        self.culled = 0;
+        let mut last_active = 0;
+        for k in 0..n.max(self.bank.active()).min(self.info.len()) {
+            let info = &mut self.info[k];
+            let sounding = k < n && self.amp[k] != 0.0;
+            let culled = sounding && info.gain * info.gain * info.decay_s < cull_below;
+            self.culled += culled as usize;
+            info.gain *= norm;
+            if sounding && !culled {
+                self.bank
+                    .set_gains(k, info.gain as f32, info.side as f32);
+                last_active = k + 1;
+            } else {
+                // Dropped, beyond the count or culled: no input; a mode still ringing keeps
+                // its pole (set in `update_poles`) and rings out at its own rate.
+                let d = self.bank.mode(k).d;
+                self.bank.set_gains(k, 0.0, d);
+                if !sounding {
+                    info.gain = 0.0;
+                }
+                if self.bank.energy(k) > 0.0 || (sounding && culled) {
+                    last_active = k + 1;
+                }
+            }
+        }
+        let mut tail = self.n_high;
+        for (j, g) in self.high.iter_mut().enumerate() {
+            let slot = HIGH_BASE + j;
+            if j < self.n_high {
+                g.info.gain *= norm;
+                self.bank
+                    .set_gains(slot, g.info.gain as f32, g.info.side as f32);
+            } else {
+                let d = self.bank.mode(slot).d;
+                self.bank.set_gains(slot, 0.0, d);
+                if self.bank.energy(slot) > 0.0 {
+                    tail = j + 1;
+                }
+            }
+        }
+        self.bank.set_active(last_active.div_ceil(LANES) * LANES);
+        self.bank.set_tail(HIGH_BASE, tail);
+        self.gains_dirty = false;
+    }
+
+    fn advance_controls(&mut self, n: usize) {
         let fs = self.fs;
-        let mut moved = false;
+        let mut poles = false;
         for s in [
             &mut self.material_x,
             &mut self.material_y,
@@ -414,29 +874,79 @@ impl Object {
         ] {
             if s.is_moving() {
                 s.advance(n, fs);
-                moved = true;
+                poles = true;
             }
         }
-        if moved || self.dirty {
-            self.update();
+        let mut pickups = false;
+        for s in [&mut self.listen_x, &mut self.listen_y] {
+            if s.is_moving() {
+                s.advance(n, fs);
+                pickups = true;
+            }
         }
+        if self.width.is_moving() {
+            self.width.advance(n, fs);
+            self.gains_dirty = true;
+        }
+        self.poles_dirty |= poles;
+        self.pickups_dirty |= pickups;
+        self.update();
+    }
+
+    /// Filter one chunk of force through the object (`out` overwritten with the mono mix,
+    /// the mid).
+    pub fn process_chunk(&mut self, force: &[f32], out: &mut [f32]) {
+        self.advance_controls(force.len());
         if self.bank.is_silent() && force.iter().all(|&x| x == 0.0) {
             // Rung out and no input: the output is exactly zero; no mode is touched.
             out.iter_mut().for_each(|y| *y = 0.0);
             return;
         }
         self.bank.process(force, out);
+        self.after_chunk();
+    }
+
+    /// Filter one chunk of force through the object: `mid` and `side` overwritten
+    /// (L = mid + side, R = mid − side; `mid` is what [`process_chunk`](Self::process_chunk)
+    /// writes). At width 0 the side is zero and costs nothing.
+    pub fn process_chunk_stereo(&mut self, force: &[f32], mid: &mut [f32], side: &mut [f32]) {
+        self.advance_controls(force.len());
+        if self.bank.is_silent() && force.iter().all(|&x| x == 0.0) {
+            mid.iter_mut().for_each(|y| *y = 0.0);
+            side.iter_mut().for_each(|y| *y = 0.0);
+            return;
+        }
+        if self.width.value() == 0.0 && !self.width.is_moving() {
+            self.bank.process(force, mid);
+            side.iter_mut().for_each(|y| *y = 0.0);
+        } else {
+            self.bank.process_stereo(force, mid, side);
+        }
+        self.after_chunk();
+    }
+
+    fn after_chunk(&mut self) {
         self.bank.flush();
-        // Shrink the processed range once ringing-out modes have decayed.
+        // Shrink the processed ranges once ringing-out modes have decayed.
         let active = self.bank.active();
         if active > 0 && self.bank.mode(active - 1).g == 0.0 {
             let mut last = 0;
             for k in 0..active {
-                if self.bank.mode(k).g > 0.0 || self.bank.energy(k) > 0.0 {
+                if self.bank.mode(k).g != 0.0 || self.bank.energy(k) > 0.0 {
                     last = k + 1;
                 }
             }
             self.bank.set_active(last.div_ceil(LANES) * LANES);
+        }
+        let (start, len) = self.bank.tail();
+        if len > self.n_high.div_ceil(LANES) * LANES {
+            let mut last = self.n_high;
+            for k in start..start + len {
+                if self.bank.energy(k) > 0.0 {
+                    last = last.max(k - start + 1);
+                }
+            }
+            self.bank.set_tail(HIGH_BASE, last);
         }
     }
 }
@@ -467,8 +977,18 @@ mod tests {
         assert!((m[0].freq_hz - 200.0).abs() < 1e-9);
         assert!((m[2].freq_hz - 600.0).abs() < 1e-9);
         // 200·k < 4000 → k ≤ 19 sound; the rest are dropped.
-        assert!(m[18].gain > 0.0);
+        assert!(m[18].gain != 0.0);
         assert_eq!(m[19].gain, 0.0);
-        assert!(o.active_modes() <= 24);
+        assert!(o.bank.active() <= 24);
+        // Nothing left above the explicit modes at Nyquist: no high band.
+        assert_eq!(o.high_band_modes(), 0);
+    }
+
+    #[test]
+    fn pickups_straddle_the_listening_point_inside_the_object() {
+        let [l, r] = pickups((0.0, -0.4));
+        assert_eq!((l, r), ((-0.5, -0.4), (0.5, -0.4)));
+        let [l, r] = pickups((0.9, 0.0));
+        assert!((l.0 - 0.4).abs() < 1e-12 && (r.0 - 0.6).abs() < 1e-12);
     }
 }

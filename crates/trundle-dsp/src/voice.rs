@@ -103,6 +103,8 @@ fn object_controls(p: &Params) -> ObjectControls {
         shape: p.shape(),
         modes: p.modes(),
         decay: p.get(ParamId::Decay),
+        listen: (p.get(ParamId::ListenX), p.get(ParamId::ListenY)),
+        width: p.width(),
     }
 }
 
@@ -370,16 +372,20 @@ impl Voice {
             // object only advances its control smoothers (it touches no mode for a zero
             // input, see `object`), and the output is exactly zero: the same samples and
             // state as the full path, at a fraction of its cost.
-            self.object.process_chunk(&self.coupled, &mut self.sound);
-            self.side.fill(0.0);
+            self.object.set_ball(self.space.ball());
+            self.object
+                .process_chunk_stereo(&self.coupled, &mut self.sound, &mut self.side);
             self.gain.advance(CHUNK, fs);
             self.force_mix.advance(CHUNK, fs);
             return;
         }
-        // The object hears the force without its static load (see `dcblock`).
+        // The object hears the force without its static load (see `dcblock`), at the
+        // ball's place.
         self.dc.process(&self.force, &mut self.coupled);
         self.quiet = silent_force && self.coupled.iter().all(|&c| c == 0.0);
-        self.object.process_chunk(&self.coupled, &mut self.sound);
+        self.object.set_ball(self.space.ball());
+        self.object
+            .process_chunk_stereo(&self.coupled, &mut self.sound, &mut self.side);
         let (g0, g1) = self.gain.advance(CHUNK, fs);
         let (x0, x1) = self.force_mix.advance(CHUNK, fs);
         let inv = 1.0 / CHUNK as f32;
@@ -388,16 +394,19 @@ impl Voice {
             let t = (i + 1) as f32 * inv;
             let g = g0 + (g1 - g0) * t;
             let x = x0 + (x1 - x0) * t;
-            let y = if x == 0.0 {
-                self.sound[i]
+            let (y, side) = if x == 0.0 {
+                (self.sound[i], self.side[i])
             } else {
-                (1.0 - x) * self.sound[i] + x * FORCE_LEVEL * self.force[i]
+                (
+                    (1.0 - x) * self.sound[i] + x * FORCE_LEVEL * self.force[i],
+                    (1.0 - x) * self.side[i],
+                )
             };
             // Last line of defence: never hand a host NaN, infinity or a subnormal (the
             // object's state is flushed, but the force output — a low-pass tail — and a
             // tiny gain can reach the subnormal range; a validator found −4·10⁻⁴⁰).
             self.sound[i] = flush_output(g * y);
-            self.side[i] = 0.0;
+            self.side[i] = flush_output(g * side);
         }
     }
 }

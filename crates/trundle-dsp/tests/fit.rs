@@ -224,6 +224,7 @@ fn trundle_objects_are_fitted_back() {
                 shape: Shape::Bar,
                 modes: 16,
                 decay: 1.0,
+                ..ObjectControls::default()
             },
             2.0,
         ),
@@ -237,6 +238,7 @@ fn trundle_objects_are_fitted_back() {
                 shape: Shape::Shell,
                 modes: 24,
                 decay: 1.0,
+                ..ObjectControls::default()
             },
             4.0,
         ),

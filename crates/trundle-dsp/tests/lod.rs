@@ -57,12 +57,12 @@ fn changing_the_quality_does_not_click() {
         jump <= 1.1 * bound,
         "switching jump {jump} vs static {bound}"
     );
-    // And draft really does less work than high.
+    // And draft really does less work than high: 16 explicit modes and its high band.
     assert!(
         Voice::new(FS, &params(128, "draft"))
             .object()
             .active_modes()
-            <= 16
+            <= 16 + Quality::Draft.high_slots()
     );
 }
 
@@ -78,6 +78,7 @@ fn wide_object() -> Object {
             shape: Shape::Bar,
             modes: 256,
             decay: 30.0,
+            ..ObjectControls::default()
         },
     )
 }
@@ -131,8 +132,8 @@ fn culling_and_unculling_do_not_click() {
 /// carries at most 10^(−D/10) of the loudest mode's power under a broadband force, so n
 /// culled modes change the output by at most √n·10^(−D/20) of the loudest mode's
 /// amplitude, which is below the total RMS: at −70 dB (quality normal) with 51 modes,
-/// < 2.3·10⁻³. At −90 dB (quality high) nothing in the table is culled and the output is
-/// identical.
+/// < 2.3·10⁻³. At −90 dB (quality high) only a mode the ball sits on a node of is culled
+/// (its mode shape at the ball, not the material, puts it 90 dB down): < 2.3·10⁻⁴.
 #[test]
 fn culling_keeps_the_output_close_to_the_unculled_output() {
     let x = force();
@@ -158,8 +159,11 @@ fn culling_keeps_the_output_close_to_the_unculled_output() {
     }
     let mut o = wide_object();
     o.set_cull_db(-90.0);
-    assert_eq!(run_object(&mut o, &x, |_, _| {}), r);
-    assert_eq!(o.culled_modes(), 0);
+    let y = run_object(&mut o, &x, |_, _| {});
+    let err: Vec<f32> = y.iter().zip(&r).map(|(a, b)| a - b).collect();
+    let rel = rms(&err) / rms(&r);
+    assert!(rel < 2.3e-4, "-90 dB: {} culled, error {rel}", o.culled_modes());
+    assert!(o.culled_modes() <= 2, "{} culled at -90 dB", o.culled_modes());
 }
 
 /// A silent scene (velocity 0 after the object has rung out) does no per-mode work: below

@@ -238,9 +238,9 @@ pub const PARAMS: [ParamSpec; PARAM_COUNT] = [
         unit: "",
         min: -1.0,
         max: 1.0,
-        default: -0.5,
+        default: 0.0,
         kind: FLOAT,
-        doc: "Listening (pick-up) point on the object, x: the image-source delays are path differences to this point (CMMR §3.3)",
+        doc: "Listening point on the object, x: the centre of the two pickups (0.5 either side along x) that hear each mode through its mode shape (docs/MODEL.md §6), and the point the image-source delays are path differences to (CMMR §3.3)",
     },
     ParamSpec {
         id: ParamId::ListenY,
