@@ -123,7 +123,15 @@ fn modal_ns(budget: Duration, modes: usize) -> f64 {
     let mut bank = ModalBank::new(modes);
     for k in 0..modes {
         let (c, s) = phasor_coeffs(100.0 * (1.0 + 0.61 * k as f64), 0.5, FS);
-        bank.set_mode(k, ModeCoeffs { c, s, g: 1e-3, d: 0.0 });
+        bank.set_mode(
+            k,
+            ModeCoeffs {
+                c,
+                s,
+                g: 1e-3,
+                d: 0.0,
+            },
+        );
     }
     bank.set_active(modes);
     let mut state = 1u32;

@@ -92,7 +92,15 @@ fn bench_bank(modes: usize, kernel: Kernel) -> ModalBank {
     for k in 0..modes {
         let f = 100.0 * (1.0 + 0.61 * k as f64);
         let (c, s) = phasor_coeffs(f, 0.5, FS);
-        bank.set_mode(k, ModeCoeffs { c, s, g: 1e-3, d: 0.0 });
+        bank.set_mode(
+            k,
+            ModeCoeffs {
+                c,
+                s,
+                g: 1e-3,
+                d: 0.0,
+            },
+        );
     }
     bank.set_active(modes);
     bank

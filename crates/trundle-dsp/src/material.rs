@@ -9,11 +9,21 @@
 //!
 //! Anchor values (Trundle's calibration, chosen from typical measured decay times):
 //!
-//! | anchor | τ at 100 Hz | τ at 5 kHz | α_G | α_R (s/rad) | amplitude tilt |
-//! |---|---|---|---|---|---|
-//! | wood  | 33 ms | 3.3 ms | 3.354  | 7.48·10⁻⁵ | f^−0.5 |
-//! | metal | 2 s   | 0.5 s  | −0.721 | 4.50·10⁻⁵ | f^0 |
-//! | glass | 0.5 s | 40 ms  | 0.642  | 8.20·10⁻⁵ | f^+0.1 |
+//! | anchor | τ at 100 Hz | τ at 5 kHz | τ at 15 kHz | α_G | α_R (s/rad) | η_max | amplitude tilt |
+//! |---|---|---|---|---|---|---|---|
+//! | wood  | 33 ms | 3.3 ms | 1.1 ms | 3.354  | 7.48·10⁻⁵ | 0.02  | f^−0.5 |
+//! | metal | 2 s   | 0.5 s  | 30 ms  | −0.721 | 4.50·10⁻⁵ | 0.002 | f^0 |
+//! | glass | 0.5 s | 40 ms  | 4.2 ms | 0.642  | 8.20·10⁻⁵ | 0.005 | f^+0.1 |
+//!
+//! **The high end (docs/MODEL.md §6, "Full band").** The exponential law is a perceptual fit
+//! over the band where modes are heard one by one; carried to 20 kHz it damps wood's modes
+//! in 20 µs and glass's in 50 µs, far faster than any real material (measured loss factors
+//! η = α/(πf): wood 0.005–0.03, glass 0.001–0.005, metals 10⁻⁴–10⁻³, roughly constant at
+//! high frequency). Above the frequency where the law's own loss factor is smallest,
+//! f* = 1/(2π·α_R), the damping is therefore bounded by the constant loss factor η_max:
+//! α(f) = min(exp(α_G + α_R·2πf), π·f·η_max) for f > f* (never below the law's own
+//! minimum, so the curve stays continuous). Below about 4.5 kHz (wood), 7.5 kHz (glass) and
+//! 20 kHz (metal) nothing changes.
 
 /// Material coefficients.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -24,6 +34,8 @@ pub struct Material {
     pub alpha_r: f64,
     /// Mode amplitude tilt: amplitude ∝ (f/f₁)^tilt.
     pub tilt: f64,
+    /// Largest loss factor η = α/(πf) at high frequency (module docs).
+    pub loss_max: f64,
 }
 
 /// Wood (disk angle 0).
@@ -31,18 +43,21 @@ pub const WOOD: Material = Material {
     alpha_g: 3.354,
     alpha_r: 7.48e-5,
     tilt: -0.5,
+    loss_max: 0.02,
 };
 /// Metal (disk angle 2π/3).
 pub const METAL: Material = Material {
     alpha_g: -0.721,
     alpha_r: 4.50e-5,
     tilt: 0.0,
+    loss_max: 0.002,
 };
 /// Glass (disk angle 4π/3).
 pub const GLASS: Material = Material {
     alpha_g: 0.642,
     alpha_r: 8.20e-5,
     tilt: 0.1,
+    loss_max: 0.005,
 };
 
 /// Shortest mode decay time (seconds).
@@ -59,19 +74,30 @@ impl Material {
             alpha_g: 0.0,
             alpha_r: 0.0,
             tilt: 0.0,
+            loss_max: 0.0,
         };
         for (wi, mi) in w.iter().zip(m.iter()) {
             out.alpha_g += wi * mi.alpha_g;
             out.alpha_r += wi * mi.alpha_r;
             out.tilt += wi * mi.tilt;
+            out.loss_max += wi * mi.loss_max;
         }
         out
     }
 
-    /// Decay rate α(ω) = exp(α_G + α_R·ω) in 1/s for a mode at `freq_hz`.
+    /// Decay rate in 1/s for a mode at `freq_hz`: α(ω) = exp(α_G + α_R·ω), bounded above
+    /// f* = 1/(2π·α_R) by the loss factor η_max (module docs).
     #[inline]
     pub fn damping_per_s(&self, freq_hz: f64) -> f64 {
-        (self.alpha_g + self.alpha_r * core::f64::consts::TAU * freq_hz).exp()
+        use core::f64::consts::{PI, TAU};
+        let alpha = (self.alpha_g + self.alpha_r * TAU * freq_hz).exp();
+        let f_star = 1.0 / (TAU * self.alpha_r.max(1e-12));
+        if freq_hz <= f_star {
+            return alpha;
+        }
+        // The law's smallest loss factor, at f*: the bound never goes below it.
+        let eta_min = (self.alpha_g + 1.0).exp() / (PI * f_star);
+        alpha.min(PI * freq_hz * self.loss_max.max(eta_min))
     }
 
     /// Decay time τ = decay_scale/α(ω) seconds, bounded to [DECAY_MIN_S, DECAY_MAX_S].
@@ -84,6 +110,7 @@ impl Material {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use core::f64::consts::PI;
 
     #[test]
     fn anchors_give_their_documented_decays() {
@@ -104,5 +131,21 @@ mod tests {
             assert!(w.decay_s(f, 1.0) >= w.decay_s(2.0 * f, 1.0));
         }
         assert_eq!(m.decay_s(1.0, 1e9), DECAY_MAX_S);
+        // The high end: bounded by the loss factor (τ = 1/(π f η)), continuous, falling.
+        assert!((w.decay_s(15_000.0, 1.0) - 1.0 / (PI * 15_000.0 * 0.02)).abs() < 1e-9);
+        assert!((g.decay_s(15_000.0, 1.0) - 1.0 / (PI * 15_000.0 * 0.005)).abs() < 1e-9);
+        for mat in [w, m, g] {
+            let mut prev = mat.decay_s(20.0, 1.0);
+            let mut f = 20.0;
+            while f < 24_000.0 {
+                f *= 1.001;
+                let tau = mat.decay_s(f, 1.0);
+                assert!(tau <= prev * (1.0 + 1e-12), "{mat:?} rises at {f}");
+                // The exponential law itself falls by e^(−α_R·2π·f·0.001) ≥ 0.994 per step
+                // below 24 kHz; a discontinuity at f* or at the bound would be a jump.
+                assert!(tau >= prev * 0.99, "{mat:?} jumps at {f}");
+                prev = tau;
+            }
+        }
     }
 }

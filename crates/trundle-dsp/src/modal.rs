@@ -434,12 +434,7 @@ struct Modes<'a> {
 /// The reference kernel: for each group of [`LANES`] modes, for each sample,
 /// `z ← p·z + g·x`, `acc[t] += Im z` (and, stereo, `side[t] += d·Im z`), in exactly the
 /// order the SSE2 kernel uses.
-fn scalar<const ST: bool>(
-    m: &mut Modes<'_>,
-    x: &[f32],
-    acc: &mut Acc,
-    side: &mut Acc,
-) {
+fn scalar<const ST: bool>(m: &mut Modes<'_>, x: &[f32], acc: &mut Acc, side: &mut Acc) {
     for o in (0..m.c.len()).step_by(LANES) {
         let lanes = o..o + LANES;
         let c: [f32; LANES] = m.c[lanes.clone()].try_into().expect("whole group");
@@ -727,7 +722,15 @@ mod tests {
     fn flush_leaves_no_subnormal_state() {
         let mut b = ModalBank::new(8);
         let (c, s) = phasor_coeffs(440.0, 0.001, 48_000.0);
-        b.set_mode(3, ModeCoeffs { c, s, g: 1.0, d: 0.0 });
+        b.set_mode(
+            3,
+            ModeCoeffs {
+                c,
+                s,
+                g: 1.0,
+                d: 0.0,
+            },
+        );
         b.set_active(8);
         let mut x = vec![0.0f32; 64];
         x[0] = 1.0;
@@ -877,12 +880,23 @@ mod tests {
                 .zip(&want)
                 .fold(0.0f64, |a, (s, w)| a.max((f64::from(*s) - w).abs()));
             // f32 accumulation of 40 terms: a few ulps of the peak.
-            assert!(peak > 1e-4 && err < 1e-5 * peak, "{kernel:?}: {err} vs {peak}");
+            assert!(
+                peak > 1e-4 && err < 1e-5 * peak,
+                "{kernel:?}: {err} vs {peak}"
+            );
         }
         // A tail range beyond the prefix is processed too, and only it.
         let mut b = ModalBank::new(64);
         let (c, s) = phasor_coeffs(1_000.0, 0.1, 48_000.0);
-        b.set_mode(50, ModeCoeffs { c, s, g: 1.0, d: 0.5 });
+        b.set_mode(
+            50,
+            ModeCoeffs {
+                c,
+                s,
+                g: 1.0,
+                d: 0.5,
+            },
+        );
         b.set_active(0);
         b.set_tail(50, 1);
         assert_eq!(b.tail(), (48, 8));

@@ -85,7 +85,7 @@ pub const HIGH_BAND_TOP_HZ: f64 = 24_000.0;
 pub const HIGH_SLOTS_MAX: usize = 48;
 
 /// Modes of a high-band group sampled to estimate its energy at the ball and the pickups.
-pub const HIGH_SAMPLES: usize = 8;
+pub const HIGH_SAMPLES: usize = 16;
 
 /// Distance of each pickup from the listening point along x (normalised coordinates: the
 /// pair spans half the object).
@@ -827,8 +827,7 @@ impl Object {
             self.culled += culled as usize;
             info.gain *= norm;
             if sounding && !culled {
-                self.bank
-                    .set_gains(k, info.gain as f32, info.side as f32);
+                self.bank.set_gains(k, info.gain as f32, info.side as f32);
                 last_active = k + 1;
             } else {
                 // Dropped, beyond the count or culled: no input; a mode still ringing keeps

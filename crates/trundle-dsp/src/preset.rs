@@ -236,6 +236,34 @@ impl Preset {
         })
     }
 
+    /// The extra balls as note events at their samples (`start_s`, `stop_s` rounded to
+    /// samples at `sample_rate_hz`), sorted by sample; a note off and on of one note at one
+    /// sample keep the file's order. For [`crate::events::Scene`].
+    ///
+    /// # Allocation
+    /// Allocates the list.
+    pub fn note_events(&self, sample_rate_hz: f64) -> Vec<(u64, crate::events::VoiceEvent)> {
+        use crate::events::VoiceEvent;
+        let mut events = Vec::with_capacity(2 * self.balls.len());
+        for b in &self.balls {
+            events.push((
+                (b.start_s * sample_rate_hz).round() as u64,
+                VoiceEvent::NoteOn {
+                    note: b.note,
+                    velocity: b.velocity,
+                },
+            ));
+            if let Some(stop) = b.stop_s {
+                events.push((
+                    (stop * sample_rate_hz).round() as u64,
+                    VoiceEvent::NoteOff { note: b.note },
+                ));
+            }
+        }
+        events.sort_by_key(|e| e.0);
+        events
+    }
+
     /// The parameters at `time_s` of the scene: `params` with every lane applied.
     pub fn params_at(&self, time_s: f64) -> Params {
         let mut p = self.params;

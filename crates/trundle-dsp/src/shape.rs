@@ -78,7 +78,11 @@ pub const EDGE_INSET: f64 = 0.9;
 /// A normalised coordinate (−1 … 1) in the mode shapes' unit coordinate u ∈ [0.05, 0.95].
 #[inline]
 pub fn unit_coordinate(x: f64) -> f64 {
-    let x = if x.is_finite() { x.clamp(-1.0, 1.0) } else { 0.0 };
+    let x = if x.is_finite() {
+        x.clamp(-1.0, 1.0)
+    } else {
+        0.0
+    };
     0.5 * (1.0 + EDGE_INSET * x)
 }
 
@@ -340,7 +344,10 @@ mod tests {
                 }
             }
         }
-        assert!(below <= REFERENCE_MODES && below >= REFERENCE_MODES - 2, "{below}");
+        assert!(
+            below <= REFERENCE_MODES && below >= REFERENCE_MODES - 2,
+            "{below}"
+        );
         // Known ratios: bar 2.756; shell ring n=3 / n=2 = 2√2 (same side of the split).
         assert!((t.modes(Shape::Bar)[1].ratio - 2.7565).abs() < 1e-3);
         assert!((t.modes(Shape::String)[4].ratio - 5.0).abs() < 1e-12);

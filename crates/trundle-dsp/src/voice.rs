@@ -150,6 +150,12 @@ impl Voice {
         self.engines.set_oversample(oversample);
     }
 
+    /// Switch the object's high band on (the default) or off: for measuring what it costs
+    /// and what it adds (`trundle bench`, `tests/full_band.rs`). Real-time safe.
+    pub fn set_high_band(&mut self, on: bool) {
+        self.object.set_high_band(on);
+    }
+
     /// The physics engine (health report, settings in force), for inspection.
     pub fn physics(&self) -> &PhysicsEngine {
         self.engines.physics()

@@ -162,8 +162,16 @@ fn culling_keeps_the_output_close_to_the_unculled_output() {
     let y = run_object(&mut o, &x, |_, _| {});
     let err: Vec<f32> = y.iter().zip(&r).map(|(a, b)| a - b).collect();
     let rel = rms(&err) / rms(&r);
-    assert!(rel < 2.3e-4, "-90 dB: {} culled, error {rel}", o.culled_modes());
-    assert!(o.culled_modes() <= 2, "{} culled at -90 dB", o.culled_modes());
+    assert!(
+        rel < 2.3e-4,
+        "-90 dB: {} culled, error {rel}",
+        o.culled_modes()
+    );
+    assert!(
+        o.culled_modes() <= 2,
+        "{} culled at -90 dB",
+        o.culled_modes()
+    );
 }
 
 /// A silent scene (velocity 0 after the object has rung out) does no per-mode work: below

@@ -153,7 +153,10 @@ fn plan(target: &ModeInfo, all: &[ModeInfo], fs: f64, n_avail: usize) -> Option<
         if !is_target {
             terms.push((0.5 * m.gain.abs() * window_sum(p * demod, len).norm(), r));
         }
-        terms.push((0.5 * m.gain.abs() * window_sum(p.conj() * demod, len).norm(), r));
+        terms.push((
+            0.5 * m.gain.abs() * window_sum(p.conj() * demod, len).norm(),
+            r,
+        ));
         amps.push((m.gain.abs(), r));
     }
     let mut eps = 0.0f64;
@@ -330,7 +333,15 @@ fn object_impulse_response(obj: &mut Object, n: usize) -> Vec<f32> {
 /// Render one mode through a bare [`ModalBank`] (`g` = 1) with the given f32 coefficients.
 fn bank_impulse_response(c: f32, s: f32, n: usize) -> Vec<f32> {
     let mut bank = ModalBank::new(1);
-    bank.set_mode(0, ModeCoeffs { c, s, g: 1.0, d: 0.0 });
+    bank.set_mode(
+        0,
+        ModeCoeffs {
+            c,
+            s,
+            g: 1.0,
+            d: 0.0,
+        },
+    );
     bank.set_active(1);
     let n = n.div_ceil(CHUNK) * CHUNK;
     let mut x = vec![0f32; n];
