@@ -13,7 +13,8 @@
 //!   each channel hears it through the magnitude of the mode shape at its pickup,
 //!   pₖ = |φₖ(pickup)| ([`crate::shape::PositionShapes`]). The two pickups sit
 //!   [`PICKUP_HALF_SPACING`] either side of the listening point along x (reflected at the
-//!   edges). Each channel's pickup gains are scaled so that their weighted mean square over
+//!   edges; a pair placed as mirror images about the centre, listen x = 0, hears a string
+//!   or a bar identically, since |sin(kπu)| = |sin(kπ(1 − u))|). Each channel's pickup gains are scaled so that their weighted mean square over
 //!   the object's modes is 1 (qₖ = pₖ/B): left and right are equally loud on average and
 //!   the ball's position, not the pickups', moves the image. The sign of φ at a pickup is
 //!   dropped: two real contact microphones hear some modes in antiphase, which is what
@@ -203,8 +204,8 @@ impl Default for ObjectControls {
             shape: Shape::Plate,
             modes: 32,
             decay: 1.0,
-            listen: (0.0, -0.4),
-            width: 0.8,
+            listen: (-0.2, -0.4),
+            width: 1.0,
         }
     }
 }
