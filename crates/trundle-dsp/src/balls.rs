@@ -23,6 +23,15 @@
 //! When every slot is busy, the oldest ball is stopped abruptly and reused (voice
 //! stealing). Balls use the signal engine.
 //!
+//! ## Level law
+//! Balls rolling independently are uncorrelated, so their forces add in power: N balls
+//! would be √N times (10·log₁₀N dB) louder than one, +12 dB for sixteen, and a scene's level
+//! would depend on how many keys are held. The voice scales the summed force of the N balls
+//! rolling (the scene's own ball while its velocity is above 0, and every extra ball) by
+//! [`level_for_balls`] = 1/√N, gliding over the controls' smoothing time when N changes:
+//! a crowd is as loud as one ball, and denser. What remains (many balls' peaks meeting) is
+//! the output limiter's (`crate::limiter`).
+//!
 //! # Allocation
 //! [`BallPool::new`] and [`BallPool::set_sample_rate`] allocate every slot; starting,
 //! stopping and processing never allocate.
@@ -37,6 +46,11 @@ pub const MAX_BALLS: usize = 16;
 /// How long (seconds) a stopped ball stays allocated after it came to rest, so its last
 /// pulses (at most [`crate::pulse::T0_MAX_S`]) play out.
 const RELEASE_S: f64 = 0.010;
+
+/// The level law's gain for `rolling` balls: 1/√N (1 for none or one).
+pub fn level_for_balls(rolling: usize) -> f64 {
+    1.0 / (rolling.max(1) as f64).sqrt()
+}
 
 /// Ball size S for a note number: 36 → 1, 96 → 0.1, linear, clamped.
 pub fn size_for_note(note: u8) -> f64 {

@@ -21,6 +21,10 @@ use crate::params::Params;
 use crate::voice::Voice;
 
 /// Something that happens to a voice.
+///
+/// The `Params` variant is large (a whole parameter set); events are moved by value through
+/// the audio thread's event loop, where boxing it would allocate.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum VoiceEvent {
     /// A ball starts rolling (a MIDI note on): note number → ball size, velocity 0…1 → ball

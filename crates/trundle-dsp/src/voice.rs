@@ -66,6 +66,8 @@ pub struct Voice {
     engines: EngineMix,
     /// Extra balls started like notes (see [`crate::balls`]).
     balls: BallPool,
+    /// The level law's gain on the summed force ([`crate::balls::level_for_balls`]).
+    ball_level: Smoother,
     /// The last chunk's force and DC-blocked force were exactly zero (the DC blocker's
     /// state is then zero too): with a zero force it may be skipped.
     quiet: bool,
@@ -135,6 +137,7 @@ impl Voice {
             coupled: [0.0; CHUNK],
             engines: EngineMix::new(fs, params),
             balls: BallPool::new(fs),
+            ball_level: Smoother::new(1.0),
             quiet: false,
         };
         v.object.set_quality(params.quality());
@@ -186,6 +189,7 @@ impl Voice {
         self.space.reset();
         self.dc.reset();
         self.balls.reset(self.seed);
+        self.ball_level.snap(1.0);
         self.object.reset();
         self.engines.reset();
         self.gain.snap_to_target();
@@ -363,6 +367,17 @@ impl Voice {
             // Extra balls roll on the same object: their forces add before it.
             let (sc, pc) = (source_controls(&self.params), space_controls(&self.params));
             self.balls.add_chunk(&mut self.force, sc, pc);
+        }
+        // The level law for summed balls (`balls`): N rolling balls at 1/√N each.
+        let rolling = self.balls.active() + usize::from(self.params.velocity() > 0.0);
+        self.ball_level
+            .set_target(crate::balls::level_for_balls(rolling));
+        if self.ball_level.is_moving() || self.ball_level.value() != 1.0 {
+            let (a, b) = self.ball_level.advance(CHUNK, fs);
+            let step = (b - a) / CHUNK as f64;
+            for (i, f) in self.force.iter_mut().enumerate() {
+                *f *= (a + step * (i + 1) as f64) as f32;
+            }
         }
         let silent_force = self.force.iter().all(|&f| f == 0.0);
         if self.quiet

@@ -359,7 +359,8 @@ const MATERIALS: [(&str, usize, Material); 3] =
 
 /// What was set must follow the documented formulas (docs/MODEL.md §6, `object`, `material`,
 /// `shape`): fₖ = f₁·ratioₖ with f₁ = 100 Hz·(1 m/size) (string: k·f₁) and
-/// τₖ = decay/exp(α_G + α_R·2πfₖ) bounded to [0.2 ms, 60 s], computed here from the
+/// τₖ = decay/exp(α_G + α_R·2πfₖ) (above f* at most decay/(π·f·η_max)) bounded to
+/// [0.2 ms, 60 s], computed here from the
 /// anchor constants, not through `Material::from_disk`.
 fn check_set_modes(
     info: &[ModeInfo],
@@ -379,7 +380,14 @@ fn check_set_modes(
             tables.modes(shape)[k].ratio
         };
         let f = f1 * ratio;
-        let alpha = (anchor_material.alpha_g + anchor_material.alpha_r * TAU * f).exp();
+        let mut alpha = (anchor_material.alpha_g + anchor_material.alpha_r * TAU * f).exp();
+        // Above f* = 1/(2π·α_R) the loss factor bounds the damping (`material` docs).
+        let f_star = 1.0 / (TAU * anchor_material.alpha_r);
+        if f > f_star {
+            let eta_min = (anchor_material.alpha_g + 1.0).exp() / (std::f64::consts::PI * f_star);
+            let eta = anchor_material.loss_max.max(eta_min);
+            alpha = alpha.min(std::f64::consts::PI * f * eta);
+        }
         let tau = (decay / alpha).clamp(DECAY_MIN_S, DECAY_MAX_S);
         // 1e-9: the disk weights at an anchor are exact to a few ulps of 1.
         if (m.freq_hz / f - 1.0).abs() > 1e-9 || (m.decay_s / tau - 1.0).abs() > 1e-9 {

@@ -1,0 +1,84 @@
+//! Levels a mixing engineer trusts (issue #12): every built-in preset's voice output (both
+//! channels, no limiter, no normalization) stays below 0 dBFS, and so do sixteen balls at
+//! full note velocity on the default scene, by the level law for summed balls
+//! (`trundle_dsp::balls`).
+
+use trundle_dsp::events::{process_stereo_with_events, Scene, TimedEvent, VoiceEvent};
+use trundle_dsp::preset::{Preset, BUILTIN_PRESETS};
+use trundle_dsp::{Params, Voice};
+
+const FS: f64 = 48_000.0;
+
+fn db(x: f64) -> f64 {
+    20.0 * x.max(1e-12).log10()
+}
+
+/// Peak and RMS (dBFS) over both channels of a preset rendered for `seconds`.
+fn preset_levels(preset: &Preset, seconds: f64) -> (f64, f64) {
+    let mut voice = Voice::new(FS, &preset.params);
+    let notes = preset.note_events(FS);
+    let mut scene = Scene::new(preset.params, &preset.automation, &notes, FS);
+    let n = (seconds * FS) as usize;
+    let (mut l, mut r) = (vec![0f32; n], vec![0f32; n]);
+    let mut done = 0;
+    while done < n {
+        let len = 4096.min(n - done);
+        let ev = scene.events(done as u64, len);
+        process_stereo_with_events(
+            &mut voice,
+            &mut l[done..done + len],
+            &mut r[done..done + len],
+            ev,
+            |_, _, _, _| {},
+        );
+        done += len;
+    }
+    let peak = l.iter().chain(&r).fold(0f32, |m, v| m.max(v.abs()));
+    let ms = l
+        .iter()
+        .chain(&r)
+        .map(|&v| f64::from(v).powi(2))
+        .sum::<f64>()
+        / (2 * n) as f64;
+    (db(f64::from(peak)), 10.0 * ms.max(1e-24).log10())
+}
+
+#[test]
+fn no_preset_reaches_full_scale() {
+    let mut failures = Vec::new();
+    for (name, _) in BUILTIN_PRESETS {
+        let preset = Preset::builtin(name).unwrap();
+        let (peak, rms) = preset_levels(&preset, 8.0);
+        println!("{name:<26} peak {peak:>6.1} dBFS  rms {rms:>6.1} dBFS");
+        if peak >= -1.0 {
+            failures.push(format!("{name}: peak {peak:.1} dBFS"));
+        }
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
+}
+
+/// Sixteen MIDI balls at full velocity over the keyboard, on the default scene.
+#[test]
+fn sixteen_full_velocity_balls_stay_below_full_scale() {
+    let params = Params::default();
+    let mut voice = Voice::new(FS, &params);
+    let n = (6.0 * FS) as usize;
+    let (mut l, mut r) = (vec![0f32; n], vec![0f32; n]);
+    let notes: Vec<TimedEvent> = (0..16)
+        .map(|i| TimedEvent {
+            offset: i * 1200,
+            event: VoiceEvent::NoteOn {
+                note: 36 + 4 * i as u8,
+                velocity: 1.0,
+            },
+        })
+        .collect();
+    process_stereo_with_events(&mut voice, &mut l, &mut r, notes, |_, _, _, _| {});
+    let peak = l.iter().chain(&r).fold(0f32, |m, v| m.max(v.abs()));
+    println!("16 balls: peak {:.1} dBFS", db(f64::from(peak)));
+    assert!(
+        db(f64::from(peak)) < -1.0,
+        "peak {:.1} dBFS",
+        db(f64::from(peak))
+    );
+}
