@@ -612,10 +612,10 @@ fn interleave(buf: &mut Vec<f32>, left: &[f32], right: Option<&[f32]>) {
     }
 }
 
-/// "N frames (P%)" for the summary, with advice when P is large.
-fn touched_note(what: &str, touched: u64, frames: u64) -> String {
+/// "WHAT VERB N frames (P%)" for the summary, with advice when P is large.
+fn touched_note(what: &str, verb: &str, touched: u64, frames: u64) -> String {
     let pct = 100.0 * touched as f64 / frames as f64;
-    let mut note = format!("{what} touched {touched} frames ({pct:.3}%)");
+    let mut note = format!("{what} {verb} {touched} frames ({pct:.3}%)");
     if pct > TOUCHED_WARN_PCT {
         note.push_str(" — lower gain_db or normalize for a cleaner result");
     }
@@ -685,7 +685,12 @@ fn execute(plan: &Plan) -> Result<String, CliError> {
             let mut note = String::from("calibrated level (not normalized), ");
             match limited {
                 Some(touched) => {
-                    note.push_str(&touched_note("safety limiter", touched, plan.frames));
+                    note.push_str(&touched_note(
+                        "safety limiter",
+                        "touched",
+                        touched,
+                        plan.frames,
+                    ));
                     if guarded > 0 {
                         // Unreachable by design (the limiter's ceiling is under the guard's
                         // knee); say so if it ever happens rather than hide it.
@@ -694,11 +699,13 @@ fn execute(plan: &Plan) -> Result<String, CliError> {
                 }
                 None if raw => note.push_str(&touched_note(
                     "force written raw (no safety limiter): never-clip guard",
+                    "bent",
                     guarded,
                     plan.frames,
                 )),
                 None => note.push_str(&touched_note(
                     "limiter off: never-clip guard",
+                    "bent",
                     guarded,
                     plan.frames,
                 )),

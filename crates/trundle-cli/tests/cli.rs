@@ -275,7 +275,7 @@ fn formats_and_level_modes() {
         .concat(),
     );
     assert!(
-        line.contains("limiter off: never-clip guard touched"),
+        line.contains("limiter off: never-clip guard bent"),
         "{line}"
     );
     assert!(number_before(&line, "frames (") > 0, "{line}");
@@ -782,7 +782,7 @@ fn mono_is_the_mean_of_the_stereo_channels() {
                     &name,
                 ],
             );
-            assert!(line.contains("never-clip guard touched 0 frames"), "{line}");
+            assert!(line.contains("never-clip guard bent 0 frames"), "{line}");
             let (spec, x) = read_wav(&d.join(&name));
             assert_eq!(spec.channels.to_string(), channels);
             (line, x)
