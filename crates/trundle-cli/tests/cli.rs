@@ -756,31 +756,48 @@ fn mono_is_the_mean_of_the_stereo_channels() {
     // (L + R)/2 of Voice::process_stereo. Calibrated, limiter off and float, so no level
     // stage differs between the two renders (the stereo-linked limiter would see other
     // peaks); the guard must not act either. Tolerance: L and R are f32 roundings of
-    // mid ± side, so (L + R)/2 is the mid within 2⁻²⁵·(|L| + |R|); 10⁻³⁰ for the flush of
-    // tiny samples. A scene with automation and one with extra balls go through the event
-    // loop's notes and lanes.
+    // mid ± side, so (L + R)/2 is the mid within 2⁻²⁵·(|L| + |R|) (times 1.001 for the
+    // second-order term); 10⁻³⁰ for the flush of tiny samples. With the mode-shape object
+    // (main, e7a8141) the worst frame measured 0.995 of that bound on the two wide scenes.
+    // A scene with automation and one with extra balls go through the event loop's notes
+    // and lanes; an off-centre listening point at full width makes L and R differ.
     let d = scratch("mono");
-    for preset in ["default", "roll-scrape-rub-morph", "marbles-spilled"] {
+    let scenes: [(&str, &str, &[&str]); 5] = [
+        ("default", "default", &[]),
+        ("morph", "roll-scrape-rub-morph", &[]),
+        ("balls", "marbles-spilled", &[]),
+        ("plate", "ball-across-metal-plate", &[]),
+        (
+            "wide",
+            "default",
+            &["--set", "listen_x=0.6", "--set", "width=1"],
+        ),
+    ];
+    for (preset, stem, extra) in scenes {
         let render = |channels: &str| {
             let name = format!("{preset}-{channels}.wav");
             let line = ok(
                 &d,
                 &[
-                    "render",
-                    "--preset",
-                    preset,
-                    "--seconds",
-                    "1.5",
-                    "--no-normalize",
-                    "--set",
-                    "limiter=off",
-                    "--format",
-                    "f32",
-                    "--channels",
-                    channels,
-                    "-o",
-                    &name,
-                ],
+                    &[
+                        "render",
+                        "--preset",
+                        stem,
+                        "--seconds",
+                        "1.5",
+                        "--no-normalize",
+                        "--set",
+                        "limiter=off",
+                        "--format",
+                        "f32",
+                        "--channels",
+                        channels,
+                        "-o",
+                        &name,
+                    ][..],
+                    extra,
+                ]
+                .concat(),
             );
             assert!(line.contains("never-clip guard bent 0 frames"), "{line}");
             let (spec, x) = read_wav(&d.join(&name));
@@ -800,12 +817,18 @@ fn mono_is_the_mean_of_the_stereo_channels() {
         for (i, &m) in mono.iter().enumerate() {
             let (l, r) = (stereo[2 * i], stereo[2 * i + 1]);
             let err = (m - (l + r) / 2.0).abs();
-            let tol = (l.abs() + r.abs()) * 2f64.powi(-25) + 1e-30;
+            let tol = (l.abs() + r.abs()) * 2f64.powi(-25) * 1.001 + 1e-30;
             assert!(err <= tol, "{preset} frame {i}: mono {m}, L {l}, R {r}");
             worst = worst.max(err);
         }
         assert!(peak(&mono) > 0.01, "{preset}: not silent");
-        println!("{preset}: largest |mono - (L+R)/2| = {worst:e}");
+        let differ = (0..mono.len())
+            .filter(|&i| stereo[2 * i] != stereo[2 * i + 1])
+            .count();
+        println!(
+            "{preset}: largest |mono - (L+R)/2| = {worst:e}, L != R in {differ} of {} frames",
+            mono.len()
+        );
     }
 }
 
