@@ -3,7 +3,8 @@
 //! ```text
 //! trundle render -o out.wav [--preset NAME|PATH] [--set ID=VALUE]… [--seconds S]
 //!                [--sample-rate HZ] [--seed N] [--force-only] [--impacts FILE.csv]
-//!                [--force] [--format pcm24|pcm16|f32] [--normalize-db X | --no-normalize]
+//!                [--force] [--format pcm24|pcm16|f32] [--channels 1|2]
+//!                [--normalize-db X | --no-normalize]
 //! trundle soak [--minutes 60] [--sample-rate 384000] [--preset P]   hours at the extremes
 //! trundle presets [--json]     the built-in scenes
 //! trundle params [--json]      every parameter ID, unit, range, default
@@ -55,7 +56,8 @@ struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Command {
-    /// Render a scene to a WAV file (the default preset unless --preset is given).
+    /// Render a scene to a WAV file, stereo unless --channels 1 (the default preset unless
+    /// --preset is given).
     Render(render::RenderArgs),
     /// List the built-in presets (scenes).
     Presets {

@@ -1,5 +1,6 @@
-//! Writing what a render produces: the WAV (sample formats, temporary file renamed into
-//! place), the impact CSV, and the spool that holds a render for two-pass normalization.
+//! Writing what a render produces: the WAV (sample formats, mono or interleaved stereo,
+//! temporary file renamed into place), the impact CSV, and the spool that holds a render
+//! (interleaved, as it will be written) for two-pass normalization.
 //!
 //! Nothing here renders; `render` (and `physics`) hand finished blocks over. Every output is
 //! written under a temporary name next to its destination and renamed into place only when
@@ -18,8 +19,9 @@ use trundle_dsp::ImpactRecord;
 /// Samples per block when a spool is replayed.
 pub const SPOOL_BLOCK: usize = 4096;
 
-/// Renders up to this many samples (64 MB of f32: 5.8 min at 48 kHz) are spooled in
-/// memory for normalization; longer ones go to a temporary file next to the output.
+/// Renders up to this many samples (64 MB of f32: 5.8 min of mono or 2.9 min of stereo at
+/// 48 kHz; a stereo frame is two samples) are spooled in memory for normalization; longer
+/// ones go to a temporary file next to the output.
 pub const MEM_SPOOL_SAMPLES: u64 = 1 << 24;
 /// Largest data chunk a WAV file can hold: its RIFF sizes are 32-bit (minus room for the
 /// header). Longer renders are refused up front rather than failing at the end.
@@ -55,14 +57,14 @@ impl Format {
             Format::F32 => 4,
         }
     }
-    fn spec(self, sample_rate: u32) -> hound::WavSpec {
+    fn spec(self, sample_rate: u32, channels: u16) -> hound::WavSpec {
         let (bits_per_sample, sample_format) = match self {
             Format::Pcm24 => (24, hound::SampleFormat::Int),
             Format::Pcm16 => (16, hound::SampleFormat::Int),
             Format::F32 => (32, hound::SampleFormat::Float),
         };
         hound::WavSpec {
-            channels: 1,
+            channels,
             sample_rate,
             bits_per_sample,
             sample_format,
@@ -114,6 +116,15 @@ pub(crate) fn io_fail(what: &str, path: &Path, e: impl std::fmt::Display) -> Cli
     ))
 }
 
+/// What a finished WAV holds: statistics over every sample, and each channel's peak.
+#[derive(Clone, Debug)]
+pub(crate) struct Written {
+    /// Peak, RMS and mean over all samples (both channels of a stereo file).
+    pub(crate) stats: Stats,
+    /// Peak |x| of each channel (L, R for stereo).
+    pub(crate) channel_peaks: Vec<f64>,
+}
+
 /// The WAV being written, under a temporary name until [`WavOut::finish`].
 pub(crate) struct WavOut {
     pub(crate) tmp: TempFile,
@@ -121,54 +132,75 @@ pub(crate) struct WavOut {
     writer: hound::WavWriter<BufWriter<File>>,
     format: Format,
     stats: Stats,
+    channel_peaks: Vec<f64>,
+    /// The channel the next sample belongs to (samples are interleaved).
+    next_channel: usize,
 }
 
 impl WavOut {
-    pub(crate) fn create(dest: &Path, format: Format, sample_rate: u32) -> Result<Self, CliError> {
+    /// A WAV of `channels` channels (1 or 2) beside `dest`, under a temporary name;
+    /// samples are handed to [`WavOut::write`] interleaved (L, R, L, R, …).
+    pub(crate) fn create(
+        dest: &Path,
+        format: Format,
+        sample_rate: u32,
+        channels: u16,
+    ) -> Result<Self, CliError> {
         let (tmp, file) = TempFile::create_beside(dest, "tmp")
             .map_err(|e| io_fail("cannot create a temporary file beside", dest, e))?;
         let sync = file
             .try_clone()
             .map_err(|e| io_fail("cannot write", tmp.path(), e))?;
-        let writer = hound::WavWriter::new(BufWriter::new(file), format.spec(sample_rate))
-            .map_err(|e| io_fail("cannot write", tmp.path(), e))?;
+        let channels = channels.max(1);
+        let writer =
+            hound::WavWriter::new(BufWriter::new(file), format.spec(sample_rate, channels))
+                .map_err(|e| io_fail("cannot write", tmp.path(), e))?;
         Ok(Self {
             tmp,
             sync,
             writer,
             format,
             stats: Stats::default(),
+            channel_peaks: vec![0.0; usize::from(channels)],
+            next_channel: 0,
         })
     }
 
-    /// Write one sample in [−1, 1] (quantized to the format).
+    /// Write the next sample (interleaved), in [−1, 1], quantized to the format. A float
+    /// file never receives a subnormal: one (a tiny sample times a normalization gain)
+    /// is written as 0.
     #[inline]
     pub(crate) fn write(&mut self, x: f64) -> Result<(), hound::Error> {
-        match self.format {
+        let (written, result) = match self.format {
             Format::Pcm24 => {
                 let q = level::quantize(x, level::PCM24_MAX);
-                self.stats.add(f64::from(q) / level::PCM24_MAX);
-                self.writer.write_sample(q)
+                (f64::from(q) / level::PCM24_MAX, self.writer.write_sample(q))
             }
             Format::Pcm16 => {
                 let q = level::quantize(x, level::PCM16_MAX) as i16;
-                self.stats.add(f64::from(q) / level::PCM16_MAX);
-                self.writer.write_sample(q)
+                (f64::from(q) / level::PCM16_MAX, self.writer.write_sample(q))
             }
             Format::F32 => {
                 let v = x as f32;
-                self.stats.add(f64::from(v));
-                self.writer.write_sample(v)
+                let v = if v.is_subnormal() { 0.0 } else { v };
+                (f64::from(v), self.writer.write_sample(v))
             }
-        }
+        };
+        self.stats.add(written);
+        let c = self.next_channel;
+        self.channel_peaks[c] = self.channel_peaks[c].max(written.abs());
+        self.next_channel = (c + 1) % self.channel_peaks.len();
+        result
     }
 
-    pub(crate) fn finish(self, dest: &Path, overwrite: bool) -> Result<Stats, CliError> {
+    /// Finalize the file and rename it to `dest`; returns what it holds.
+    pub(crate) fn finish(self, dest: &Path, overwrite: bool) -> Result<Written, CliError> {
         let WavOut {
             tmp,
             sync,
             writer,
             stats,
+            channel_peaks,
             ..
         } = self;
         writer
@@ -178,7 +210,10 @@ impl WavOut {
             .map_err(|e| io_fail("cannot write", tmp.path(), e))?;
         drop(sync);
         persist(tmp, dest, overwrite, "--output")?;
-        Ok(stats)
+        Ok(Written {
+            stats,
+            channel_peaks,
+        })
     }
 }
 
@@ -252,11 +287,11 @@ pub(crate) enum Spool {
 }
 
 impl Spool {
-    /// A spool for `frames` samples: in memory up to `memory_limit` samples, else a
-    /// temporary file beside `dest`.
-    pub(crate) fn new(frames: u64, memory_limit: u64, dest: &Path) -> Result<Self, CliError> {
-        if frames <= memory_limit {
-            return Ok(Spool::Memory(Vec::with_capacity(frames as usize)));
+    /// A spool for `samples` samples (frames × channels): in memory up to `memory_limit`
+    /// samples, else a temporary file beside `dest`.
+    pub(crate) fn new(samples: u64, memory_limit: u64, dest: &Path) -> Result<Self, CliError> {
+        if samples <= memory_limit {
+            return Ok(Spool::Memory(Vec::with_capacity(samples as usize)));
         }
         let (tmp, file) = TempFile::create_beside(dest, "spool")
             .map_err(|e| io_fail("cannot create a temporary file beside", dest, e))?;
@@ -266,6 +301,7 @@ impl Spool {
         })
     }
 
+    /// Append samples (any number: a stereo block is longer than [`SPOOL_BLOCK`]).
     pub(crate) fn push(&mut self, block: &[f32]) -> Result<(), CliError> {
         match self {
             Spool::Memory(v) => {
@@ -274,12 +310,15 @@ impl Spool {
             }
             Spool::Disk { tmp, writer } => {
                 let mut bytes = [0u8; SPOOL_BLOCK * 4];
-                for (chunk, x) in bytes.chunks_exact_mut(4).zip(block) {
-                    chunk.copy_from_slice(&x.to_le_bytes());
+                for part in block.chunks(SPOOL_BLOCK) {
+                    for (chunk, x) in bytes.chunks_exact_mut(4).zip(part) {
+                        chunk.copy_from_slice(&x.to_le_bytes());
+                    }
+                    writer
+                        .write_all(&bytes[..part.len() * 4])
+                        .map_err(|e| io_fail("cannot write", tmp.path(), e))?;
                 }
-                writer
-                    .write_all(&bytes[..block.len() * 4])
-                    .map_err(|e| io_fail("cannot write", tmp.path(), e))
+                Ok(())
             }
         }
     }
@@ -343,10 +382,17 @@ mod tests {
             .map(|i| ((i as f32) * 0.013).sin() * 0.7 + f32::MIN_POSITIVE)
             .collect();
         let mut outs = Vec::new();
-        for limit in [u64::MAX, 0] {
+        // Blocks shorter and longer than SPOOL_BLOCK (a stereo block of BLOCK frames is
+        // 2 × BLOCK samples).
+        for (limit, push) in [
+            (u64::MAX, 1000),
+            (0, 1000),
+            (u64::MAX, 2 * BLOCK),
+            (0, 2 * BLOCK + 7),
+        ] {
             let mut spool = Spool::new(signal.len() as u64, limit, &dest).unwrap();
             assert_eq!(matches!(spool, Spool::Disk { .. }), limit == 0);
-            for block in signal.chunks(1000) {
+            for block in signal.chunks(push) {
                 spool.push(block).unwrap();
             }
             let mut back = Vec::new();
@@ -359,8 +405,9 @@ mod tests {
                 .unwrap();
             outs.push(back);
         }
-        assert_eq!(outs[0], signal);
-        assert_eq!(outs[1], signal);
+        for out in &outs {
+            assert_eq!(*out, signal);
+        }
         assert_eq!(fs::read_dir(&dir).unwrap().count(), 0, "spool file removed");
         fs::remove_dir_all(&dir).unwrap();
     }

@@ -184,7 +184,7 @@ pub fn run(args: &PhysicsArgs) -> Result<String, CliError> {
             return Err(input("--impacts and --output are the same file"));
         }
     }
-    let mut wav = WavOut::create(output, Format::F32, args.scene.sample_rate)?;
+    let mut wav = WavOut::create(output, Format::F32, args.scene.sample_rate, 1)?;
     let mut csv = match &args.impacts {
         Some(p) => Some(CsvOut::create(p)?),
         None => None,

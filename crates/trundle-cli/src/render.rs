@@ -2,26 +2,34 @@
 //!
 //! ```text
 //! preset (built-in or file) ─► --set ID=VALUE … ─► --seed, --force-only ─► Params
-//!   ─► Voice, blocks of 4096 ─► impacts ─► CSV (temp file, renamed into place)
+//!   ─► Voice, blocks of 4096 frames ─► impacts ─► CSV (temp file, renamed into place)
 //!                      │
-//!                      └─► samples ─► normalize (two passes, via a spool) or soft limit
-//!                                  ─► quantize ─► WAV (temp file, renamed into place)
+//!                      └─► L, R (stereo: process_stereo_with_events)
+//!                          or the mono mix (--channels 1: process_with_events)
+//!                        ─► normalize (two passes, via an interleaved spool; one gain)
+//!                           or calibrated: safety limiter (latency compensated) when
+//!                           limiter = on, never-clip guard
+//!                        ─► quantize ─► WAV (temp file, renamed into place)
 //! ```
 //!
 //! Everything the user gave is validated before anything is rendered or written: a bad
 //! argument costs nothing and touches no file. Then the render runs block by block; impacts
-//! are drained after every block into a buffered CSV writer. Peak normalization needs the
-//! whole render's peak before the first sample is written, so the render is spooled — in
-//! memory up to [`MEM_SPOOL_SAMPLES`], beyond that to a temporary raw file next to the
-//! output (removed afterwards) — and scaled on the way out. The calibrated path
-//! (`--no-normalize`) streams straight to the WAV. The files themselves are written by
-//! [`crate::output`].
+//! are drained after every block into a buffered CSV writer. The object's sound is written
+//! in stereo unless `--channels 1` asks for its mono mix ((L + R)/2, which is what
+//! [`Voice::process`] renders); the force (`--force-only`, `output = force`) is mono unless
+//! `--channels 2` asks for it on both channels. Peak normalization needs the whole render's
+//! peak (over both channels: one gain keeps the stereo image) before the first sample is
+//! written, so the render is spooled, interleaved — in memory up to [`MEM_SPOOL_SAMPLES`]
+//! samples, beyond that to a temporary raw file next to the output (removed afterwards) —
+//! and scaled on the way out. The calibrated path (`--no-normalize`) streams straight to
+//! the WAV through [`level::AlignedLimiter`] (see [`crate::level`]). The files themselves are
+//! written by [`crate::output`].
 
 use crate::error::{input, quote, CliError};
 use crate::level;
 use crate::output::{
-    check_destination, io_fail, same_path, CsvOut, Format, Spool, WavOut, MEM_SPOOL_SAMPLES,
-    WAV_MAX_DATA_BYTES,
+    check_destination, io_fail, same_path, CsvOut, Format, Spool, WavOut, Written,
+    MEM_SPOOL_SAMPLES, WAV_MAX_DATA_BYTES,
 };
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -29,7 +37,8 @@ use std::fs::File;
 use std::io::{self, IsTerminal, Read};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use trundle_dsp::events::{process_with_events, Scene, VoiceEvent};
+use trundle_dsp::events::{process_stereo_with_events, process_with_events, Scene, VoiceEvent};
+use trundle_dsp::limiter::Limiting;
 use trundle_dsp::params::{spec_by_key, Output, ParamEnum, ParamId};
 use trundle_dsp::preset::{Lane, Preset, DEFAULT_PRESET};
 use trundle_dsp::{Params, Voice};
@@ -48,8 +57,16 @@ pub const MAX_SAMPLE_RATE: u32 = trundle_dsp::MAX_SAMPLE_RATE_HZ as u32;
 pub const DEFAULT_NORMALIZE_DB: f64 = -1.0;
 /// Lowest `--normalize-db` (dBFS); below it a 24-bit file would hold mostly rounding noise.
 pub const MIN_NORMALIZE_DB: f64 = -100.0;
-/// Samples rendered per block (impacts are drained after each).
+/// Frames rendered per block (impacts are drained after each).
 pub const BLOCK: usize = 4096;
+/// Channels of the object's sound unless `--channels` says otherwise.
+pub const DEFAULT_CHANNELS: u16 = 2;
+/// Channels of the force (`--force-only`, `output = force`) unless `--channels` says
+/// otherwise: the force is one signal.
+pub const FORCE_CHANNELS: u16 = 1;
+/// The summary suggests a lower gain when the limiter or guard touched more than this
+/// share of the frames (%).
+pub const TOUCHED_WARN_PCT: f64 = 0.1;
 /// Largest preset file read (presets are a few hundred bytes; this stops `/dev/zero`).
 pub const MAX_PRESET_BYTES: u64 = 1 << 20;
 /// The summary warns of a DC offset above this fraction of the RMS (−20 dB).
@@ -63,13 +80,15 @@ pub const DC_WARN_RATIO: f64 = 0.1;
 #[command(after_help = "\
 Examples:
   trundle render -o ball.wav
+  trundle render --channels 1 -o ball-mono.wav
   trundle render --preset marble-on-glass --seconds 10 -o marble.wav
   trundle render --set size=0.8 --set shape=bar --seed 7 -o bar.wav
   trundle render --force-only --impacts hits.csv -o force.wav
 
 Parameter IDs and ranges: `trundle params`. Built-in presets: `trundle presets`.")]
 pub struct RenderArgs {
-    /// Output WAV file (mono). An existing file is an error unless --force is given.
+    /// Output WAV file (stereo unless --channels 1; the force is mono). An existing file is
+    /// an error unless --force is given.
     #[arg(short, long, value_name = "FILE.wav")]
     pub output: PathBuf,
 
@@ -112,6 +131,11 @@ pub struct RenderArgs {
     #[arg(long, value_enum, default_value_t = Format::Pcm24)]
     pub format: Format,
 
+    /// Channels of the WAV file: 2 (stereo, the default for the object's sound) or 1 (the
+    /// mono mix (L+R)/2; the default for the force, which --channels 2 writes on both).
+    #[arg(long, value_name = "1|2", allow_hyphen_values = true)]
+    pub channels: Option<String>,
+
     /// Peak-normalize to this level in dBFS (−100 … 0) [default: -1]
     #[arg(
         long,
@@ -121,8 +145,10 @@ pub struct RenderArgs {
     )]
     pub normalize_db: Option<String>,
 
-    /// Keep the engine's calibrated level; a soft limiter keeps peaks below full scale and
-    /// the summary says how many samples it touched.
+    /// Keep the engine's calibrated level. With the scene's `limiter` on (the default) the
+    /// look-ahead safety limiter (ceiling -1 dBFS, stereo-linked, latency compensated) keeps
+    /// peaks down; with `--set limiter=off` a soft never-clip guard bends only what exceeds
+    /// -1 dBFS. The summary says how many frames either touched.
     #[arg(long)]
     pub no_normalize: bool,
 }
@@ -132,7 +158,8 @@ pub struct RenderArgs {
 enum LevelMode {
     /// Scale so the peak sits at this many dBFS.
     Normalize { peak_db: f64 },
-    /// Keep the engine's level, soft-limit above −1 dBFS.
+    /// Keep the engine's level: the safety limiter if `limiter` is on, then the never-clip
+    /// guard.
     Calibrated,
 }
 
@@ -147,6 +174,8 @@ struct Plan {
     preset_name: String,
     sample_rate: u32,
     frames: u64,
+    /// 1 (mono mix or force) or 2 (stereo).
+    channels: u16,
     format: Format,
     level: LevelMode,
     output: PathBuf,
@@ -173,21 +202,15 @@ fn plan(args: &RenderArgs) -> Result<Plan, CliError> {
         Some(t) => parse_sample_rate(t)?,
         None => DEFAULT_SAMPLE_RATE,
     };
+    let explicit_channels = match &args.channels {
+        Some(t) => Some(parse_channels(t)?),
+        None => None,
+    };
     let frames = (seconds * f64::from(sample_rate)).round() as u64;
     if frames == 0 {
         return Err(input(format!(
             "--seconds {} is shorter than one sample at {sample_rate} Hz",
             args.seconds.as_deref().unwrap_or_default()
-        )));
-    }
-    let data_bytes = frames * args.format.bytes_per_sample();
-    if data_bytes > WAV_MAX_DATA_BYTES {
-        let max_s =
-            (WAV_MAX_DATA_BYTES / args.format.bytes_per_sample()) as f64 / f64::from(sample_rate);
-        return Err(input(format!(
-            "--seconds {seconds} at {sample_rate} Hz in {} needs {:.1} GB, more than a WAV file can hold (4 GiB): at most {max_s:.0} s at this rate and format (try a lower --sample-rate or --format pcm16)",
-            args.format.name(),
-            data_bytes as f64 / 1e9
         )));
     }
 
@@ -251,6 +274,23 @@ fn plan(args: &RenderArgs) -> Result<Plan, CliError> {
             .map_err(|e| input(format!("--force-only: {e}")))?;
     }
 
+    let channels = explicit_channels.unwrap_or(if params.force_only() {
+        FORCE_CHANNELS
+    } else {
+        DEFAULT_CHANNELS
+    });
+    let frame_bytes = u64::from(channels) * args.format.bytes_per_sample();
+    let data_bytes = frames * frame_bytes;
+    if data_bytes > WAV_MAX_DATA_BYTES {
+        let max_s = (WAV_MAX_DATA_BYTES / frame_bytes) as f64 / f64::from(sample_rate);
+        return Err(input(format!(
+            "--seconds {seconds} at {sample_rate} Hz in {} {} needs {:.1} GB, more than a WAV file can hold (4 GiB): at most {max_s:.0} s at this rate, format and channel count (try a lower --sample-rate, --format pcm16 or --channels 1)",
+            channels_name(channels),
+            args.format.name(),
+            data_bytes as f64 / 1e9
+        )));
+    }
+
     let level = if args.no_normalize {
         LevelMode::Calibrated
     } else {
@@ -298,6 +338,7 @@ fn plan(args: &RenderArgs) -> Result<Plan, CliError> {
         preset_name: preset.name,
         sample_rate,
         frames,
+        channels,
         format: args.format,
         level,
         output: args.output.clone(),
@@ -351,6 +392,26 @@ fn parse_sample_rate(text: &str) -> Result<u32, CliError> {
         )));
     }
     Ok(v as u32)
+}
+
+fn parse_channels(text: &str) -> Result<u16, CliError> {
+    match text.trim() {
+        "1" => Ok(1),
+        "2" => Ok(2),
+        _ => Err(input(format!(
+            "--channels must be 1 (mono) or 2 (stereo), got {}",
+            quote(text)
+        ))),
+    }
+}
+
+/// "mono" or "stereo".
+fn channels_name(channels: u16) -> &'static str {
+    if channels == 1 {
+        "mono"
+    } else {
+        "stereo"
+    }
 }
 
 fn parse_normalize_db(text: &str) -> Result<f64, CliError> {
@@ -476,9 +537,12 @@ struct Impacts {
     dropped: u64,
 }
 
-/// Run the voice for `frames` samples in blocks of [`BLOCK`], the preset's automation and
-/// ball notes applied by the core's event loop ([`trundle_dsp::events`]); drain impacts
-/// after each block; hand each block to `sink`.
+/// Run the voice for `frames` frames in blocks of [`BLOCK`], the preset's automation and
+/// ball notes applied by the core's event loop ([`trundle_dsp::events`]): in stereo
+/// ([`process_stereo_with_events`]) when `plan.channels` is 2, else the mono mix
+/// ([`process_with_events`]). Drain impacts after each block; count and zero non-finite
+/// samples (the voice flushes them itself: this only guards the file); hand each block to
+/// `sink` as `(left, Some(right))` or `(mono, None)`.
 #[allow(clippy::too_many_arguments)]
 fn render_pass(
     voice: &mut Voice,
@@ -486,10 +550,13 @@ fn render_pass(
     frames: u64,
     csv: &mut Option<CsvOut>,
     impacts: &mut Impacts,
+    nonfinite: &mut u64,
     progress: &mut Progress,
-    mut sink: impl FnMut(&[f32]) -> Result<(), CliError>,
+    mut sink: impl FnMut(&mut [f32], Option<&mut [f32]>) -> Result<(), CliError>,
 ) -> Result<(), CliError> {
-    let mut block = vec![0f32; BLOCK];
+    let stereo = plan.channels == 2;
+    let mut left = vec![0f32; BLOCK];
+    let mut right = vec![0f32; if stereo { BLOCK } else { 0 }];
     let mut done = 0u64;
     let mut scene = Scene::new(
         plan.params,
@@ -499,34 +566,71 @@ fn render_pass(
     );
     while done < frames {
         let n = (frames - done).min(BLOCK as u64) as usize;
-        let out = &mut block[..n];
-        // A scene without lanes or notes yields no events: one stretch, `voice.process`.
-        process_with_events(voice, out, scene.events(done, n), |_, _, _| {});
+        let l = &mut left[..n];
+        let mut r = if stereo { Some(&mut right[..n]) } else { None };
+        // A scene without lanes or notes yields no events: one stretch, `voice.process*`.
+        match r.as_deref_mut() {
+            Some(r) => {
+                process_stereo_with_events(voice, l, r, scene.events(done, n), |_, _, _, _| {})
+            }
+            None => process_with_events(voice, l, scene.events(done, n), |_, _, _| {}),
+        }
+        for x in l.iter_mut().chain(r.iter_mut().flat_map(|r| r.iter_mut())) {
+            if !x.is_finite() {
+                *nonfinite += 1;
+                *x = 0.0;
+            }
+        }
         let count = &mut impacts.count;
-        impacts.dropped += voice.drain_impacts(|r| {
+        impacts.dropped += voice.drain_impacts(|rec| {
             *count += 1;
             if let Some(c) = csv.as_mut() {
-                c.row(&r);
+                c.row(&rec);
             }
         });
         if let Some(c) = csv.as_mut() {
             c.check()?;
         }
-        sink(out)?;
+        sink(l, r)?;
         done += n as u64;
         progress.update(done);
     }
     Ok(())
 }
 
+/// Interleave `(left, right)` (or take `mono` as is) into `buf`.
+fn interleave(buf: &mut Vec<f32>, left: &[f32], right: Option<&[f32]>) {
+    buf.clear();
+    match right {
+        Some(right) => {
+            for (&l, &r) in left.iter().zip(right) {
+                buf.push(l);
+                buf.push(r);
+            }
+        }
+        None => buf.extend_from_slice(left),
+    }
+}
+
+/// "WHAT VERB N frames (P%)" for the summary, with advice when P is large.
+fn touched_note(what: &str, verb: &str, touched: u64, frames: u64) -> String {
+    let pct = 100.0 * touched as f64 / frames as f64;
+    let mut note = format!("{what} {verb} {touched} frames ({pct:.3}%)");
+    if pct > TOUCHED_WARN_PCT {
+        note.push_str(" — lower gain_db or normalize for a cleaner result");
+    }
+    note
+}
+
 fn execute(plan: &Plan) -> Result<String, CliError> {
     let fs = plan.sample_rate;
+    let stereo = plan.channels == 2;
     let mut voice = Voice::new(f64::from(fs), &plan.params);
     voice.set_impact_log(true);
 
     // Create the temporary outputs first: a folder that cannot be written fails before
     // the render, not after it.
-    let mut wav = WavOut::create(&plan.output, plan.format, fs)?;
+    let mut wav = WavOut::create(&plan.output, plan.format, fs, plan.channels)?;
     let mut csv = match &plan.impacts {
         Some(p) => Some(CsvOut::create(p)?),
         None => None,
@@ -535,59 +639,98 @@ fn execute(plan: &Plan) -> Result<String, CliError> {
     let mut progress = Progress::new(plan.frames, seconds);
     let mut impacts = Impacts::default();
     let mut nonfinite = 0u64;
-    let mut clean = |x: f32| -> f64 {
-        if x.is_finite() {
-            f64::from(x)
-        } else {
-            nonfinite += 1;
-            0.0
-        }
-    };
 
     let level_note = match plan.level {
         LevelMode::Calibrated => {
-            let mut touched = 0u64;
+            // The object's sound: the safety limiter (when the scene's `limiter` is on),
+            // then the never-clip guard, which only acts when the limiter is off (see
+            // `level`). The force is written raw, as before the limiter existed: a limiter
+            // would reshape the impact peaks `trundle analyze` measures; only the guard
+            // keeps it from clipping.
+            let raw = plan.params.force_only();
+            let mut limiter = (!raw && plan.params.limiting() == Limiting::On)
+                .then(|| level::AlignedLimiter::new(f64::from(fs)));
+            let mut guarded = 0u64;
+            let mut write = |l: &[f32], r: Option<&[f32]>| -> Result<(), CliError> {
+                for (i, &x) in l.iter().enumerate() {
+                    let mut frame_guarded = false;
+                    for x in std::iter::once(x).chain(r.map(|r| r[i])) {
+                        let x = if raw { x } else { level::flush_tiny(x) };
+                        let (y, bent) = level::soft_limit(f64::from(x));
+                        frame_guarded |= bent;
+                        wav.write(y)
+                            .map_err(|e| io_fail("cannot write", wav.tmp.path(), e))?;
+                    }
+                    guarded += u64::from(frame_guarded);
+                }
+                Ok(())
+            };
             render_pass(
                 &mut voice,
                 plan,
                 plan.frames,
                 &mut csv,
                 &mut impacts,
+                &mut nonfinite,
                 &mut progress,
-                |block| {
-                    for &x in block {
-                        let (y, t) = level::soft_limit(clean(x));
-                        touched += u64::from(t);
-                        wav.write(y)
-                            .map_err(|e| io_fail("cannot write", wav.tmp.path(), e))?;
-                    }
-                    Ok(())
+                |l, r| match limiter.as_mut() {
+                    Some(lim) => lim.process(l, r, &mut write),
+                    None => write(l, r.as_deref()),
                 },
             )?;
-            let pct = 100.0 * touched as f64 / plan.frames as f64;
-            let mut note = format!(
-                "calibrated level (not normalized), soft limiter touched {touched} samples ({pct:.3}%)"
-            );
-            if pct > 0.1 {
-                note.push_str(" — lower gain_db or normalize for a cleaner result");
+            let limited = match limiter {
+                Some(lim) => Some(lim.finish(stereo, &mut write)?),
+                None => None,
+            };
+            let mut note = String::from("calibrated level (not normalized), ");
+            match limited {
+                Some(touched) => {
+                    note.push_str(&touched_note(
+                        "safety limiter",
+                        "touched",
+                        touched,
+                        plan.frames,
+                    ));
+                    if guarded > 0 {
+                        // Unreachable by design (the limiter's ceiling is under the guard's
+                        // knee); say so if it ever happens rather than hide it.
+                        note.push_str(&format!("; never-clip guard bent {guarded} frames"));
+                    }
+                }
+                None if raw => note.push_str(&touched_note(
+                    "force written raw (no safety limiter): never-clip guard",
+                    "bent",
+                    guarded,
+                    plan.frames,
+                )),
+                None => note.push_str(&touched_note(
+                    "limiter off: never-clip guard",
+                    "bent",
+                    guarded,
+                    plan.frames,
+                )),
             }
             note
         }
         LevelMode::Normalize { peak_db } => {
-            let mut spool = Spool::new(plan.frames, MEM_SPOOL_SAMPLES, &plan.output)?;
+            let samples = plan.frames * u64::from(plan.channels);
+            let mut spool = Spool::new(samples, MEM_SPOOL_SAMPLES, &plan.output)?;
             let mut peak = 0f64;
+            let mut interleaved = Vec::with_capacity(BLOCK * usize::from(plan.channels));
             render_pass(
                 &mut voice,
                 plan,
                 plan.frames,
                 &mut csv,
                 &mut impacts,
+                &mut nonfinite,
                 &mut progress,
-                |block| {
-                    for &x in block {
-                        peak = peak.max(clean(x).abs());
+                |l, r| {
+                    interleave(&mut interleaved, l, r.as_deref());
+                    for &x in &interleaved {
+                        peak = peak.max(f64::from(x).abs());
                     }
-                    spool.push(block)
+                    spool.push(&interleaved)
                 },
             )?;
             progress.message("writing");
@@ -607,9 +750,14 @@ fn execute(plan: &Plan) -> Result<String, CliError> {
             })?;
             if peak > 0.0 {
                 format!(
-                    "normalized peak to {} dBFS (gain {:+.1} dB)",
+                    "normalized peak to {} dBFS (gain {:+.1} dB{})",
                     level::fmt_db(peak_db),
-                    level::lin_to_db(gain)
+                    level::lin_to_db(gain),
+                    if stereo {
+                        ", one for both channels"
+                    } else {
+                        ""
+                    }
                 )
             } else {
                 "silent render, nothing to normalize".to_string()
@@ -625,13 +773,25 @@ fn execute(plan: &Plan) -> Result<String, CliError> {
         }
         _ => String::new(),
     };
-    let stats = wav.finish(&plan.output, plan.overwrite)?;
+    let Written {
+        stats,
+        channel_peaks,
+    } = wav.finish(&plan.output, plan.overwrite)?;
+    let channel_note = match channel_peaks.as_slice() {
+        [l, r] => format!(
+            " (L {}, R {})",
+            level::fmt_db(level::lin_to_db(*l)),
+            level::fmt_db(level::lin_to_db(*r))
+        ),
+        _ => String::new(),
+    };
 
     let mut line = format!(
-        "wrote {}: {} ({}), {seconds:.3} s at {fs} Hz {}, peak {} dBFS, RMS {} dBFS, {} impacts{impacts_note}; {level_note}",
+        "wrote {}: {} ({}, {}), {seconds:.3} s at {fs} Hz {}, peak {} dBFS{channel_note}, RMS {} dBFS, {} impacts{impacts_note}; {level_note}",
         plan.output.display(),
         plan.preset_name,
         if plan.params.force_only() { "force" } else { "sound" },
+        channels_name(plan.channels),
         plan.format.name(),
         level::fmt_db(stats.peak_db()),
         level::fmt_db(stats.rms_db()),
@@ -683,6 +843,13 @@ mod tests {
             assert!(parse_normalize_db(bad).is_err(), "{bad}");
         }
         assert_eq!(parse_normalize_db("-6").unwrap(), -6.0);
+        for bad in ["0", "3", "-1", "1.5", "2.0", "stereo", ""] {
+            let e = parse_channels(bad).unwrap_err();
+            assert_eq!(e.exit_code(), 2);
+            assert!(e.to_string().contains("--channels"), "{e}");
+        }
+        assert_eq!(parse_channels("1").unwrap(), 1);
+        assert_eq!(parse_channels(" 2").unwrap(), 2);
     }
 
     #[test]

@@ -7,6 +7,7 @@
 use std::collections::BTreeMap;
 use std::fs;
 use std::path::{Path, PathBuf};
+use trundle_dsp::limiter::Limiter;
 use trundle_dsp::preset::BUILTIN_PRESETS;
 use trundle_dsp::PARAMS;
 
@@ -18,8 +19,25 @@ fn scratch(name: &str) -> PathBuf {
     common::scratch("trundle-cli-tests", name)
 }
 
+fn peak(x: &[f64]) -> f64 {
+    x.iter().fold(0.0f64, |a, v| a.max(v.abs()))
+}
+
 fn peak_db(x: &[f64]) -> f64 {
-    20.0 * x.iter().fold(0.0f64, |a, v| a.max(v.abs())).log10()
+    20.0 * peak(x).log10()
+}
+
+/// The safety limiter's ceiling, −1 dBFS, as the f32 it is applied as.
+fn ceiling() -> f64 {
+    f64::from(Limiter::new(48_000.0).ceiling())
+}
+
+/// Split interleaved samples into `n` channels.
+fn channels(x: &[f64], n: usize) -> Vec<Vec<f64>> {
+    assert_eq!(x.len() % n, 0, "whole frames");
+    (0..n)
+        .map(|c| x.iter().skip(c).step_by(n).copied().collect())
+        .collect()
 }
 
 fn rms_db(x: &[f64]) -> f64 {
@@ -61,6 +79,7 @@ fn default_render_is_a_valid_normalized_wav() {
     assert_eq!(line.lines().count(), 1, "one summary line: {line}");
     for part in [
         "out.wav",
+        "(sound, stereo)",
         "5.000 s",
         "48000 Hz",
         "pcm24",
@@ -68,15 +87,16 @@ fn default_render_is_a_valid_normalized_wav() {
         "RMS ",
         "impacts",
         "normalized peak to -1.0 dBFS",
+        "one for both channels",
     ] {
         assert!(line.contains(part), "'{part}' missing from: {line}");
     }
     let (spec, x) = read_wav(&d.join("out.wav"));
-    assert_eq!(spec.channels, 1);
+    assert_eq!(spec.channels, 2);
     assert_eq!(spec.sample_rate, 48_000);
     assert_eq!(spec.bits_per_sample, 24);
     assert_eq!(spec.sample_format, hound::SampleFormat::Int);
-    assert_eq!(x.len(), 5 * 48_000);
+    assert_eq!(x.len(), 2 * 5 * 48_000);
     // Peak-normalized to −1 dBFS: 24-bit rounding moves it by < 1e-6 dB; 0.01 dB is slack.
     let p = peak_db(&x);
     assert!(p <= -1.0 + 0.01 && p > -1.01, "peak {p} dBFS");
@@ -150,13 +170,16 @@ fn force_only_differs_from_the_sound_and_equals_set_output_force() {
         &d,
         &[&common[..], &["-o", "force.wav", "--force-only"]].concat(),
     );
-    assert!(line.contains("(force)"), "{line}");
+    assert!(line.contains("(force, mono)"), "{line}");
     ok(
         &d,
         &[&common[..], &["-o", "force2.wav", "--set", "output=force"]].concat(),
     );
-    let (_, s) = read_wav(&d.join("sound.wav"));
-    let (_, f) = read_wav(&d.join("force.wav"));
+    let (spec, s) = read_wav(&d.join("sound.wav"));
+    assert_eq!(spec.channels, 2);
+    let s = &channels(&s, 2)[0];
+    let (spec, f) = read_wav(&d.join("force.wav"));
+    assert_eq!(spec.channels, 1);
     assert_eq!(s.len(), f.len());
     let diff = s.iter().zip(&f).filter(|(a, b)| a != b).count();
     assert!(
@@ -219,36 +242,53 @@ fn formats_and_level_modes() {
     assert!((peak_db(&x) + 6.0).abs() < 0.01, "peak {}", peak_db(&x));
     assert!(x.iter().all(|v| v.is_finite()));
 
-    // Calibrated level, 12 dB hotter than the engine's: the limiter must work, and say so.
+    // Calibrated level, 12 dB hotter than the engine's: the safety limiter must work, hold
+    // its ceiling on both channels, and say so.
+    let hot = ["--format", "f32", "--no-normalize", "--set", "gain_db=12"];
+    let line = ok(&d, &[&base[..], &hot, &["-o", "hot.wav"]].concat());
+    assert!(line.contains("calibrated level"), "{line}");
+    assert!(line.contains("safety limiter touched"), "{line}");
+    let touched = number_before(&line, "frames (");
+    assert!(touched > 0, "{line}");
+    let (spec, x) = read_wav(&d.join("hot.wav"));
+    assert_eq!(spec.channels, 2);
+    for (c, ch) in channels(&x, 2).iter().enumerate() {
+        let p = peak(ch);
+        assert!(
+            p <= ceiling(),
+            "channel {c}: peak {p} over the -1 dBFS ceiling"
+        );
+        assert!(
+            p > 0.8 * ceiling(),
+            "channel {c}: limited, not silenced: {p}"
+        );
+    }
+
+    // The same with the limiter off: the never-clip guard bends what exceeds -1 dBFS.
     let line = ok(
         &d,
         &[
             &base[..],
-            &[
-                "-o",
-                "hot.wav",
-                "--format",
-                "f32",
-                "--no-normalize",
-                "--set",
-                "gain_db=12",
-            ],
+            &hot,
+            &["--set", "limiter=off", "-o", "hot-off.wav"],
         ]
         .concat(),
     );
-    assert!(line.contains("calibrated level"), "{line}");
-    let touched = number_before(&line, "samples (");
-    assert!(touched > 0, "{line}");
-    let (_, x) = read_wav(&d.join("hot.wav"));
-    let peak = x.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-    assert!(peak < 1.0, "the file never clips: peak {peak}");
+    assert!(
+        line.contains("limiter off: never-clip guard bent"),
+        "{line}"
+    );
+    assert!(number_before(&line, "frames (") > 0, "{line}");
+    let (_, x) = read_wav(&d.join("hot-off.wav"));
+    let p = peak(&x);
+    assert!(p < 1.0 && p > ceiling(), "the file never clips: peak {p}");
 
     // At the preset's own level the limiter leaves the render alone.
     let line = ok(
         &d,
         &[&base[..], &["-o", "cal.wav", "--no-normalize"]].concat(),
     );
-    assert!(line.contains("touched 0 samples"), "{line}");
+    assert!(line.contains("safety limiter touched 0 frames"), "{line}");
 }
 
 #[test]
@@ -290,7 +330,7 @@ fn force_flag_overwrites_and_its_absence_protects() {
         ],
     );
     let (_, x) = read_wav(&d.join("out.wav"));
-    assert_eq!(x.len(), 9600);
+    assert_eq!(x.len(), 2 * 9600);
     assert!(fs::read_to_string(d.join("hits.csv"))
         .unwrap()
         .starts_with("time_s,"));
@@ -555,7 +595,7 @@ fn preset_files_load_by_path() {
         fs::read(d.join("d.wav")).unwrap()
     );
     let (_, x) = read_wav(&d.join("bar.wav"));
-    assert_eq!(x.len(), 14_400);
+    assert_eq!(x.len(), 2 * 14_400);
     assert!(rms_db(&x) > -40.0);
 }
 
@@ -609,7 +649,10 @@ fn presets_and_params_are_listed() {
 }
 
 #[test]
-fn every_builtin_preset_renders_finite_audible_and_unclipped_at_its_own_level() {
+fn every_builtin_preset_stays_under_the_ceiling_on_both_channels_without_normalizing() {
+    // 3 s of every scene at its calibrated level, stereo, float (nothing rounds a peak
+    // away): each channel stays at or under the safety limiter's -1 dBFS ceiling — so never
+    // reaches 0 dBFS — and is audible; no sample is NaN, infinite or subnormal.
     let d = scratch("all-presets");
     let mut levels = BTreeMap::new();
     for (stem, _) in BUILTIN_PRESETS {
@@ -621,7 +664,7 @@ fn every_builtin_preset_renders_finite_audible_and_unclipped_at_its_own_level() 
                 "--preset",
                 stem,
                 "--seconds",
-                "0.5",
+                "3",
                 "--no-normalize",
                 "--format",
                 "f32",
@@ -629,18 +672,297 @@ fn every_builtin_preset_renders_finite_audible_and_unclipped_at_its_own_level() 
                 &name,
             ],
         );
-        // Presets are levelled to leave headroom: the limiter does not touch them.
-        assert!(line.contains("touched 0 samples"), "{stem}: {line}");
-        let (_, x) = read_wav(&d.join(&name));
-        assert!(x.iter().all(|v| v.is_finite()), "{stem}: non-finite sample");
-        let (p, r) = (peak_db(&x), rms_db(&x));
+        assert!(line.contains("safety limiter touched"), "{stem}: {line}");
+        let touched = number_before(&line, "frames (");
+        let (spec, x) = read_wav(&d.join(&name));
+        assert_eq!((spec.channels, x.len()), (2, 2 * 3 * 48_000), "{stem}");
         assert!(
-            p < -0.5 && r > -45.0,
-            "{stem}: peak {p:.1} dBFS, RMS {r:.1} dBFS"
+            x.iter()
+                .all(|v| v.is_finite() && (*v == 0.0 || v.abs() >= f64::from(f32::MIN_POSITIVE))),
+            "{stem}: a non-finite or subnormal sample"
         );
-        levels.insert(*stem, (p, r));
+        let mut peaks = Vec::new();
+        for (c, ch) in channels(&x, 2).iter().enumerate() {
+            let (p, r) = (peak(ch), rms_db(ch));
+            assert!(
+                p <= ceiling(),
+                "{stem}: channel {c} peak {p} over the ceiling"
+            );
+            assert!(r > -45.0, "{stem}: channel {c} RMS {r:.1} dBFS");
+            peaks.push(format!("{:.1}", peak_db(ch)));
+        }
+        levels.insert(*stem, (peaks, touched));
     }
-    println!("preset levels (0.5 s, calibrated): {levels:?}");
+    println!("preset peaks L, R (dBFS) and limiter-touched frames, 3 s calibrated: {levels:#?}");
+}
+
+#[test]
+fn stereo_is_the_default_with_the_right_length_in_every_format() {
+    let d = scratch("stereo");
+    for (format, bits) in [("pcm24", 24), ("pcm16", 16), ("f32", 32)] {
+        let name = format!("{format}.wav");
+        let line = ok(
+            &d,
+            &[
+                "render",
+                "--seconds",
+                "0.37",
+                "--sample-rate",
+                "22050",
+                "--format",
+                format,
+                "-o",
+                &name,
+            ],
+        );
+        assert!(line.contains("(sound, stereo)"), "{line}");
+        let (spec, x) = read_wav(&d.join(&name));
+        assert_eq!((spec.channels, spec.bits_per_sample), (2, bits), "{format}");
+        // round(0.37 × 22050) = 8159 frames (8158.5 rounds away from zero).
+        assert_eq!(x.len(), 2 * 8159, "{format}");
+        // Normalized with one gain: the louder channel peaks at -1 dBFS.
+        let p = channels(&x, 2)
+            .iter()
+            .map(|c| peak_db(c))
+            .fold(f64::MIN, f64::max);
+        assert!((p + 1.0).abs() < 0.01, "{format}: peak {p}");
+    }
+    // --channels 2 is the default spelled out: the same bytes.
+    ok(
+        &d,
+        &[
+            "render",
+            "--seconds",
+            "0.37",
+            "--sample-rate",
+            "22050",
+            "--format",
+            "f32",
+            "--channels",
+            "2",
+            "-o",
+            "two.wav",
+        ],
+    );
+    assert_eq!(
+        fs::read(d.join("two.wav")).unwrap(),
+        fs::read(d.join("f32.wav")).unwrap()
+    );
+}
+
+#[test]
+fn mono_is_the_mean_of_the_stereo_channels() {
+    // --channels 1 renders the voice's mono mix (Voice::process), which the core defines as
+    // (L + R)/2 of Voice::process_stereo. Calibrated, limiter off and float, so no level
+    // stage differs between the two renders (the stereo-linked limiter would see other
+    // peaks); the guard must not act either. Tolerance: L and R are f32 roundings of
+    // mid ± side, so (L + R)/2 is the mid within 2⁻²⁵·(|L| + |R|) (times 1.001 for the
+    // second-order term); 10⁻³⁰ for the flush of tiny samples. With the mode-shape object
+    // (main, e7a8141) the worst frame measured 0.995 of that bound on the two wide scenes.
+    // A scene with automation and one with extra balls go through the event loop's notes
+    // and lanes; an off-centre listening point at full width makes L and R differ.
+    let d = scratch("mono");
+    let scenes: [(&str, &str, &[&str]); 5] = [
+        ("default", "default", &[]),
+        ("morph", "roll-scrape-rub-morph", &[]),
+        ("balls", "marbles-spilled", &[]),
+        ("plate", "ball-across-metal-plate", &[]),
+        (
+            "wide",
+            "default",
+            &["--set", "listen_x=0.6", "--set", "width=1"],
+        ),
+    ];
+    for (preset, stem, extra) in scenes {
+        let render = |channels: &str| {
+            let name = format!("{preset}-{channels}.wav");
+            let line = ok(
+                &d,
+                &[
+                    &[
+                        "render",
+                        "--preset",
+                        stem,
+                        "--seconds",
+                        "1.5",
+                        "--no-normalize",
+                        "--set",
+                        "limiter=off",
+                        "--format",
+                        "f32",
+                        "--channels",
+                        channels,
+                        "-o",
+                        &name,
+                    ][..],
+                    extra,
+                ]
+                .concat(),
+            );
+            assert!(line.contains("never-clip guard bent 0 frames"), "{line}");
+            let (spec, x) = read_wav(&d.join(&name));
+            assert_eq!(spec.channels.to_string(), channels);
+            (line, x)
+        };
+        let (mono_line, mono) = render("1");
+        let (stereo_line, stereo) = render("2");
+        assert!(mono_line.contains("(sound, mono)"), "{mono_line}");
+        assert_eq!(mono.len() * 2, stereo.len(), "{preset}");
+        assert_eq!(
+            number_before(&mono_line, "impacts"),
+            number_before(&stereo_line, "impacts"),
+            "{preset}: the same scene"
+        );
+        let mut worst = 0f64;
+        for (i, &m) in mono.iter().enumerate() {
+            let (l, r) = (stereo[2 * i], stereo[2 * i + 1]);
+            let err = (m - (l + r) / 2.0).abs();
+            let tol = (l.abs() + r.abs()) * 2f64.powi(-25) * 1.001 + 1e-30;
+            assert!(err <= tol, "{preset} frame {i}: mono {m}, L {l}, R {r}");
+            worst = worst.max(err);
+        }
+        assert!(peak(&mono) > 0.01, "{preset}: not silent");
+        let differ = (0..mono.len())
+            .filter(|&i| stereo[2 * i] != stereo[2 * i + 1])
+            .count();
+        println!(
+            "{preset}: largest |mono - (L+R)/2| = {worst:e}, L != R in {differ} of {} frames",
+            mono.len()
+        );
+    }
+}
+
+#[test]
+fn channels_other_than_1_or_2_are_refused() {
+    let d = scratch("bad-channels");
+    for bad in ["0", "3", "-1", "1.5", "2.0", "stereo", "", "65538"] {
+        let o = run(&d, &["render", "--channels", bad, "-o", "x.wav"]);
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "--channels {bad:?}: {err}");
+        assert_eq!(err.lines().count(), 1, "{err}");
+        assert!(
+            err.starts_with("error: --channels must be 1 (mono) or 2 (stereo)")
+                && err.contains(&format!("'{bad}'")),
+            "{err}"
+        );
+        assert_eq!(stdout(&o), "");
+        assert!(
+            entries(&d).is_empty(),
+            "--channels {bad:?}: nothing written"
+        );
+    }
+}
+
+#[test]
+fn the_safety_limiter_keeps_the_render_time_aligned() {
+    let d = scratch("latency");
+    let render = |name: &str, extra: &[&str]| {
+        let line = ok(
+            &d,
+            &[
+                &[
+                    "render",
+                    "--seconds",
+                    "1",
+                    "--no-normalize",
+                    "--format",
+                    "f32",
+                    "-o",
+                    name,
+                ][..],
+                extra,
+            ]
+            .concat(),
+        );
+        let (_, x) = read_wav(&d.join(name));
+        (line, x)
+    };
+    // A quiet scene (the default, peaks under -1 dBFS): the limiter never acts, so with its
+    // latency compensated the file is the limiter-off file sample for sample — in stereo and
+    // mono. A shift by one frame, or a missing tail, would differ.
+    for ch in ["2", "1"] {
+        let (on_line, on) = render(&format!("on{ch}.wav"), &["--channels", ch]);
+        let (_, off) = render(
+            &format!("off{ch}.wav"),
+            &["--channels", ch, "--set", "limiter=off"],
+        );
+        assert!(
+            on_line.contains("safety limiter touched 0 frames"),
+            "{on_line}"
+        );
+        assert!(
+            peak(&off) < ceiling() && peak(&off) > 0.1,
+            "quiet, not silent: {}",
+            peak(&off)
+        );
+        assert_eq!(on.len(), off.len());
+        assert!(on == off, "--channels {ch}: limiter on and off differ");
+        // The last frames came out of the delay line too (they are not the flush's zeros).
+        assert!(on[on.len() - 200..].iter().any(|v| *v != 0.0));
+    }
+    // A hot scene, where the limiter acts: its gain is slow and positive, so the limited file
+    // correlates best with the unlimited one at lag 0, not at the limiter's latency (72
+    // frames at 48 kHz).
+    let hot = ["--set", "gain_db=12", "--channels", "1"];
+    let (line, on) = render("hot-on.wav", &hot);
+    assert!(number_before(&line, "frames (") > 0, "{line}");
+    let (_, off) = render(
+        "hot-off.wav",
+        &[&hot[..], &["--set", "limiter=off"]].concat(),
+    );
+    let corr = |lag: i64| -> f64 {
+        (0..on.len() as i64)
+            .filter_map(|i| {
+                let j = i + lag;
+                (0..off.len() as i64)
+                    .contains(&j)
+                    .then(|| on[i as usize] * off[j as usize])
+            })
+            .sum()
+    };
+    let best = (-100..=100)
+        .max_by(|&a, &b| corr(a).total_cmp(&corr(b)))
+        .unwrap();
+    assert_eq!(best, 0, "the limited render is shifted by {best} frames");
+}
+
+#[test]
+fn force_only_stays_mono_and_raw() {
+    // The force is one signal: mono by default, written raw (no safety limiter, which would
+    // reshape the impact peaks `analyze` measures). `--channels 2` puts it on both channels.
+    let d = scratch("force-mono");
+    let base = [
+        "render",
+        "--seconds",
+        "0.5",
+        "--force-only",
+        "--no-normalize",
+        "--format",
+        "f32",
+    ];
+    let line = ok(&d, &[&base[..], &["-o", "f.wav"]].concat());
+    assert!(line.contains("(force, mono)"), "{line}");
+    assert!(line.contains("force written raw"), "{line}");
+    let (spec, f) = read_wav(&d.join("f.wav"));
+    assert_eq!((spec.channels, f.len()), (1, 24_000));
+    // The scene's limiter setting does not change the force.
+    ok(
+        &d,
+        &[&base[..], &["--set", "limiter=off", "-o", "g.wav"]].concat(),
+    );
+    assert_eq!(
+        fs::read(d.join("f.wav")).unwrap(),
+        fs::read(d.join("g.wav")).unwrap()
+    );
+    ok(
+        &d,
+        &[&base[..], &["--channels", "2", "-o", "f2.wav"]].concat(),
+    );
+    let (spec, f2) = read_wav(&d.join("f2.wav"));
+    assert_eq!(spec.channels, 2);
+    let [l, r] = <[Vec<f64>; 2]>::try_from(channels(&f2, 2)).unwrap();
+    assert_eq!(l, f);
+    assert_eq!(r, f);
 }
 
 #[test]

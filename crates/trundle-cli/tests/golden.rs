@@ -9,8 +9,10 @@
 //! ```
 //!
 //! and says so in the CHANGELOG (**(sound)**). Each preset is rendered twice, 4 s at
-//! 48 kHz as 32-bit float without normalization: once as the object's sound and once as
-//! the raw force (`--force-only`), so a change is located on the action or the object side.
+//! 48 kHz as 32-bit float without normalization: once as the object's sound, in stereo (the
+//! hash covers both channels, interleaved as in the file; the scene's safety limiter is on
+//! unless the preset turns it off), and once as the raw force (`--force-only`, mono), so a
+//! change is located on the action or the object side.
 //!
 //! The modal bank's SIMD kernels differ in the last bits (`trundle_dsp::modal::Kernel`), so
 //! the hashes are recorded per kernel: the file holds one section per kernel name, and a
@@ -43,8 +45,9 @@ fn scratch() -> PathBuf {
 }
 
 /// Hash of the sample data of one render (the WAV's `data` chunk only, so a header change
-/// alone — e.g. a new metadata chunk — is not a sound change).
-fn render_hash(dir: &Path, preset: &str, extra: &[&str]) -> u64 {
+/// alone — e.g. a new metadata chunk — is not a sound change), which must have `channels`
+/// channels.
+fn render_hash(dir: &Path, preset: &str, extra: &[&str], channels: u16) -> u64 {
     let out = dir.join(format!("{preset}{}.wav", extra.join("")));
     let o = Command::new(BIN)
         .args(["render", "--preset", preset, "--seconds", "4"])
@@ -66,6 +69,12 @@ fn render_hash(dir: &Path, preset: &str, extra: &[&str]) -> u64 {
         String::from_utf8_lossy(&o.stderr)
     );
     let mut r = hound::WavReader::open(&out).unwrap();
+    assert_eq!(r.spec().channels, channels, "{preset} {extra:?}");
+    assert_eq!(
+        r.len(),
+        4 * 48_000 * u32::from(channels),
+        "{preset} {extra:?}"
+    );
     let bytes: Vec<u8> = r
         .samples::<f32>()
         .flat_map(|s| s.unwrap().to_le_bytes())
@@ -116,8 +125,8 @@ fn every_preset_renders_the_recorded_samples() {
     let kernel = Kernel::detect().name().to_string();
     let mut now = BTreeMap::new();
     for (stem, _) in BUILTIN_PRESETS {
-        for (suffix, extra) in [("", &[][..]), (":force", &["--force-only"][..])] {
-            let h = render_hash(&dir, stem, extra);
+        for (suffix, extra, channels) in [("", &[][..], 2), (":force", &["--force-only"][..], 1)] {
+            let h = render_hash(&dir, stem, extra, channels);
             now.insert(format!("{stem}{suffix}"), format!("{h:016x}"));
         }
     }
