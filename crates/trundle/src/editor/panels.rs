@@ -204,13 +204,11 @@ impl TrundleEditor {
                 t,
             )
             .on_hover_text(format!(
-                "Gain reduction of the safety limiter (deepest over the last moments; the bar \
-                 spans {:.0} dB). It acts only on peaks over -1 dBFS. Latency {} samples \
-                 ({latency_ms:.1} ms), reported to the host, the same with the limiter off. \
-                 {} samples reduced since the last reset.",
+                "Gain reduction of the safety limiter (the deepest of the last moments; the \
+                 bar spans {:.0} dB). It acts only on peaks over -1 dBFS. Latency {} samples \
+                 ({latency_ms:.1} ms), reported to the host, the same with the limiter off.",
                 widgets::METER_RANGE_DB,
                 self.meter.latency(),
-                self.meter.touched(),
             ));
         }
     }
