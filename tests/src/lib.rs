@@ -21,6 +21,7 @@ pub mod check;
 use clack_extensions::audio_ports::{
     AudioPortInfoBuffer, AudioPortRescanFlags, HostAudioPorts, HostAudioPortsImpl, PluginAudioPorts,
 };
+use clack_extensions::latency::PluginLatency;
 use clack_extensions::params::{
     HostParams, HostParamsImplMainThread, HostParamsImplShared, ParamClearFlags, ParamInfoBuffer,
     ParamInfoFlags, ParamRescanFlags, PluginParams,
@@ -57,6 +58,7 @@ pub struct Shared {
     params: OnceLock<Option<PluginParams>>,
     state: OnceLock<Option<PluginState>>,
     audio_ports: OnceLock<Option<PluginAudioPorts>>,
+    latency: OnceLock<Option<PluginLatency>>,
 }
 
 impl<'a> SharedHandler<'a> for Shared {
@@ -64,6 +66,7 @@ impl<'a> SharedHandler<'a> for Shared {
         let _ = self.params.set(instance.get_extension());
         let _ = self.state.set(instance.get_extension());
         let _ = self.audio_ports.set(instance.get_extension());
+        let _ = self.latency.set(instance.get_extension());
     }
 
     fn request_restart(&self) {
@@ -277,6 +280,7 @@ impl Bundle {
                 params: OnceLock::new(),
                 state: OnceLock::new(),
                 audio_ports: OnceLock::new(),
+                latency: OnceLock::new(),
             },
             |_| MainThread {
                 main_thread: Some(main_thread),
@@ -379,6 +383,16 @@ impl Instance {
         let inputs = list(true);
         let outputs = list(false);
         Ok((inputs, outputs))
+    }
+
+    /// The latency the plugin reports (`clap_plugin_latency.get`, samples), as a host reads
+    /// it after activation to compensate it.
+    pub fn latency(&mut self) -> Result<u32, HostError> {
+        let ext = self
+            .instance
+            .access_shared_handler(|s| s.latency.get().copied().flatten())
+            .ok_or_else(|| err("the plugin has no latency extension"))?;
+        Ok(ext.get(&self.instance.plugin_handle()))
     }
 
     /// Every parameter's info, in the plugin's order.

@@ -188,7 +188,8 @@ fn zero_frame_blocks_change_nothing() {
     let [l, r] = with
         .render_allowing_empty_blocks(&script_with)
         .unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(first_difference(&l, &r), None);
+    // The mid, as `render` returns it.
+    let l: Vec<f32> = l.iter().zip(&r).map(|(a, b)| 0.5 * (a + b)).collect();
     let out_without = render(&mut without, &script_without);
     assert_sounding(&out_without, "without 0-frame blocks");
     assert_eq!(

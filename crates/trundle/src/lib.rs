@@ -3,12 +3,22 @@
 //! A CLAP and VST3 instrument (stereo out, no audio in) running the `trundle-dsp` voice:
 //!
 //! ```text
-//! host params ──► TrundleParams ──(once per sub-block)──► trundle_dsp::Params ──► Voice ──► mono
-//!                  (from PARAMS)                                                   │
-//!                                                    bypass fade ◄─────────────────┘
-//!                                                        │
-//!                                          L = R ◄───────┴──► spectrum tap (editor open only)
+//! host params ──► TrundleParams ──(once per sub-block)──► trundle_dsp::Params ──► Voice ──► L, R
+//!                  (from PARAMS)                                                    │
+//!                                        safety limiter (look-ahead, linked) ◄──────┘
+//!                                                │  └──► LimiterMeter (editor)
+//!                                           bypass fade (both channels)
+//!                                                │
+//!                                  host L, R ◄───┴──► spectrum tap: the mid (editor open only)
 //! ```
+//!
+//! * **Stereo**: the voice renders left and right ([`Voice::process_stereo`]; `width` sets
+//!   how far apart they are, the mid is the mono voice). A host that gives the plugin one
+//!   output channel gets the mid, (L + R)/2.
+//! * **Safety limiter** ([`trundle_dsp::limiter::Limiter`], `limiter` = on by default):
+//!   stereo-linked, look-ahead 1.5 ms, ceiling −1 dBFS. Its delay is there whether it is on
+//!   or off, so the latency reported to the host in `activate` (72 samples at 48 kHz) never
+//!   changes while the plugin runs. The editor shows its gain reduction ([`meter`]).
 //!
 //! * **Automation** is sample-accurate in the sense that matters for a bounce: nice-plug
 //!   splits the host buffer at every parameter event, and the voice takes the new targets at
@@ -16,8 +26,8 @@
 //!   to them itself (no zipper noise, no clicks). The chunk grid is counted from the last
 //!   reset, not from the host's buffers, so the output depends on when events happen, never
 //!   on how the host slices its blocks.
-//! * **Real-time safety**: the voice and every buffer are allocated in `activate`; `process`
-//!   never allocates (nice-plug's `assert_process_allocs` is on in debug builds), locks or
+//! * **Real-time safety**: the voice, the limiter and every buffer are allocated in
+//!   `activate`; `process` never allocates (nice-plug's `assert_process_allocs` is on in debug builds), locks or
 //!   logs.
 //! * **Transport**: with `run = with transport` (default) the ball rolls while the host plays;
 //!   on stop its velocity glides to 0 (the pulses fade, no click) and the object rings out
@@ -41,13 +51,16 @@
 
 use nice_plug::prelude::*;
 use std::sync::Arc;
-use trundle_dsp::events::{process_with_events, TimedEvent, VoiceEvent};
+use trundle_dsp::events::{process_stereo_with_events, TimedEvent, VoiceEvent};
+use trundle_dsp::limiter::{Limiter, Limiting};
 use trundle_dsp::{ParamId, Voice};
 
 pub mod editor;
+pub mod meter;
 pub mod params;
 pub mod spectrum;
 
+use meter::LimiterMeter;
 use params::TrundleParams;
 use spectrum::SpectrumTap;
 
@@ -72,7 +85,12 @@ pub struct Trundle {
     params: Arc<TrundleParams>,
     voice: Option<Voice>,
     dsp: trundle_dsp::Params,
-    mono: Vec<f32>,
+    /// The rendered left and right channels (the host's maximum block, from `activate`).
+    left: Vec<f32>,
+    right: Vec<f32>,
+    /// The output safety limiter (from `activate`; its latency is reported there).
+    limiter: Option<Limiter>,
+    meter: Arc<LimiterMeter>,
     tap: Arc<SpectrumTap>,
     sample_rate: f32,
     bypass_gain: f32,
@@ -86,7 +104,10 @@ impl Default for Trundle {
             params: Arc::new(TrundleParams::default()),
             voice: None,
             dsp: trundle_dsp::Params::default(),
-            mono: Vec::new(),
+            left: Vec::new(),
+            right: Vec::new(),
+            limiter: None,
+            meter: Arc::new(LimiterMeter::default()),
             tap: Arc::new(SpectrumTap::default()),
             sample_rate: 48_000.0,
             bypass_gain: 1.0,
@@ -101,9 +122,19 @@ impl Trundle {
     /// targets go in first: `Voice::reset` rebuilds the series, pulses (the pulse table at
     /// exactly the target sharpness) and modes from them, so a seed, preset or state loaded
     /// since the last block is honoured exactly. Real-time safe.
-    fn restart(voice: &mut Voice, dsp: &trundle_dsp::Params) {
+    /// The limiter is cleared with it (empty delay line, unity gain), so a restart replays
+    /// the same samples.
+    fn restart(
+        voice: &mut Voice,
+        limiter: &mut Limiter,
+        meter: &LimiterMeter,
+        dsp: &trundle_dsp::Params,
+    ) {
         voice.set_params(dsp);
         voice.reset();
+        limiter.reset();
+        limiter.set_enabled(dsp.limiting() == Limiting::On);
+        meter.reset();
     }
 }
 
@@ -114,11 +145,19 @@ impl Plugin for Trundle {
     const EMAIL: &'static str = "trundle@example.invalid";
     const VERSION: &'static str = env!("CARGO_PKG_VERSION");
 
-    const AUDIO_IO_LAYOUTS: &'static [AudioIOLayout] = &[AudioIOLayout {
-        main_input_channels: None,
-        main_output_channels: NonZeroU32::new(2),
-        ..AudioIOLayout::const_default()
-    }];
+    const AUDIO_IO_LAYOUTS: &'static [AudioIOLayout] = &[
+        AudioIOLayout {
+            main_input_channels: None,
+            main_output_channels: NonZeroU32::new(2),
+            ..AudioIOLayout::const_default()
+        },
+        // A host that wants one output channel gets the mid, (L + R)/2.
+        AudioIOLayout {
+            main_input_channels: None,
+            main_output_channels: NonZeroU32::new(1),
+            ..AudioIOLayout::const_default()
+        },
+    ];
     const SAMPLE_ACCURATE_AUTOMATION: bool = true;
     const MIDI_INPUT: MidiConfig = MidiConfig::Basic;
 
@@ -131,7 +170,7 @@ impl Plugin for Trundle {
     }
 
     fn editor(&mut self, _async_executor: AsyncExecutor<Self>) -> Option<Self::Editor> {
-        editor::create(self.params.clone(), self.tap.clone())
+        editor::create(self.params.clone(), self.tap.clone(), self.meter.clone())
     }
 
     fn filter_state(state: &mut PluginState) {
@@ -144,7 +183,7 @@ impl Plugin for Trundle {
         &mut self,
         _audio_io_layout: &AudioIOLayout,
         buffer_config: &BufferConfig,
-        _context: &mut impl ActivateContext<Self>,
+        context: &mut impl ActivateContext<Self>,
     ) -> bool {
         self.sample_rate = buffer_config.sample_rate;
         self.params.to_dsp(&mut self.dsp);
@@ -155,9 +194,18 @@ impl Plugin for Trundle {
             Some(v) if v.sample_rate() == trundle_dsp::sanitize_sample_rate(fs) => {}
             _ => self.voice = Some(Voice::new(fs, &self.dsp)),
         }
+        // A few hundred samples of delay line: cheap to build at every activation. Its
+        // look-ahead is the plugin's only latency, the same whether the limiter is on or off
+        // (set once here, never from `process`), so a host compensates it once.
+        let limiter = Limiter::new(fs);
+        let latency = u32::try_from(limiter.latency_samples()).unwrap_or(u32::MAX);
+        context.set_latency_samples(latency);
+        self.meter.set_latency(latency);
+        self.limiter = Some(limiter);
         let max = (buffer_config.max_buffer_size as usize).max(1);
-        if self.mono.len() < max {
-            self.mono = vec![0.0; max];
+        if self.left.len() < max {
+            self.left = vec![0.0; max];
+            self.right = vec![0.0; max];
         }
         self.tap.set_sample_rate(self.sample_rate);
         true
@@ -165,8 +213,8 @@ impl Plugin for Trundle {
 
     fn reset(&mut self) {
         self.params.to_dsp(&mut self.dsp);
-        if let Some(v) = &mut self.voice {
-            Self::restart(v, &self.dsp);
+        if let (Some(v), Some(l)) = (&mut self.voice, &mut self.limiter) {
+            Self::restart(v, l, &self.meter, &self.dsp);
         }
         self.silent_samples = usize::MAX / 2;
         self.rolling = false;
@@ -180,7 +228,9 @@ impl Plugin for Trundle {
         context: &mut impl ProcessContext<Self>,
     ) -> ProcessStatus {
         let n = buffer.samples();
-        let (Some(voice), false) = (&mut self.voice, self.mono.is_empty()) else {
+        let (Some(voice), Some(limiter), false) =
+            (&mut self.voice, &mut self.limiter, self.left.is_empty())
+        else {
             // Not activated: the host still gets a fully written (silent) buffer.
             for ch in buffer.as_slice() {
                 ch.fill(0.0);
@@ -197,10 +247,12 @@ impl Plugin for Trundle {
         let silence = (RESET_AFTER_SILENCE_S * self.sample_rate) as usize;
         let was_silent = self.silent_samples >= silence;
         if rolling && !self.rolling && was_silent {
-            Self::restart(voice, &self.dsp);
+            Self::restart(voice, limiter, &self.meter, &self.dsp);
         }
         self.rolling = rolling;
         voice.set_params(&self.dsp);
+        // Switched at block boundaries (nice-plug splits blocks at parameter changes).
+        limiter.set_enabled(self.dsp.limiting() == Limiting::On);
 
         let bypass_target = if self.params.bypass.value() { 0.0 } else { 1.0 };
         let editor_open = self.params.editor_state.is_open();
@@ -216,17 +268,19 @@ impl Plugin for Trundle {
             !rolling && was_silent && next_event.is_none() && voice.active_balls() == 0;
         let idle = stopped_quiet || bypassed;
         if idle {
-            // Nothing to hear: stopped and silent, or fully bypassed. The voice is not run.
+            // Nothing to hear: stopped and silent (the limiter's delay line holds zeros: it
+            // has output 0.25 s of them), or fully bypassed (voice and limiter paused
+            // together, so they resume in step). Neither is run.
             for ch in buffer.as_slice() {
                 ch.fill(0.0);
             }
             self.silent_samples = self.silent_samples.saturating_add(n);
             if editor_open {
-                self.mono.fill(0.0);
+                self.left.fill(0.0);
                 let mut done = 0;
                 while done < n {
-                    let len = (n - done).min(self.mono.len());
-                    self.tap.push(&self.mono[..len]);
+                    let len = (n - done).min(self.left.len());
+                    self.tap.push(&self.left[..len]);
                     done += len;
                 }
             }
@@ -261,24 +315,28 @@ impl Plugin for Trundle {
         let silent_samples = &mut self.silent_samples;
         let tap = &self.tap;
         let channels = buffer.as_slice();
-        // `mono` holds the host's maximum block; a longer block (a host breaking its own
-        // promise) is rendered in pieces rather than truncated.
+        // `left`/`right` hold the host's maximum block; a longer block (a host breaking its
+        // own promise) is rendered in pieces rather than truncated.
         let mut notes = notes.peekable();
-        let cap = self.mono.len();
+        let cap = self.left.len().min(self.right.len());
         let mut piece = 0;
         while piece < n {
             let len = cap.min(n - piece);
-            let mono = &mut self.mono[..len];
+            let left = &mut self.left[..len];
+            let right = &mut self.right[..len];
             let due = std::iter::from_fn(|| notes.next_if(|e| e.offset < piece + len)).map(|e| {
                 TimedEvent {
                     offset: e.offset.saturating_sub(piece),
                     ..e
                 }
             });
-            process_with_events(voice, mono, due, |voice, stretch, at| {
+            process_stereo_with_events(voice, left, right, due, |voice, l, r, at| {
                 let at = piece + at;
+                // Stereo-linked: both channels get the same gain. Its output is finite and
+                // never subnormal.
+                limiter.process_stereo(l, r);
                 if *bypass_gain != 1.0 || bypass_target != 1.0 {
-                    for x in stretch.iter_mut() {
+                    for (x, y) in l.iter_mut().zip(r.iter_mut()) {
                         if *bypass_gain != bypass_target {
                             *bypass_gain = if *bypass_gain < bypass_target {
                                 (*bypass_gain + step).min(bypass_target)
@@ -286,31 +344,49 @@ impl Plugin for Trundle {
                                 (*bypass_gain - step).max(bypass_target)
                             };
                         }
-                        // The voice's output is never subnormal, but a tiny sample times
-                        // a fading gain can be (#13): flush it.
-                        *x *= *bypass_gain;
-                        if x.is_subnormal() {
-                            *x = 0.0;
-                        }
+                        // A tiny sample times a fading gain can be subnormal (#13): flush.
+                        *x = flush_subnormal(*x * *bypass_gain);
+                        *y = flush_subnormal(*y * *bypass_gain);
                     }
                 }
-                if stretch.iter().all(|x| *x == 0.0) {
-                    *silent_samples = silent_samples.saturating_add(stretch.len());
+                if l.iter().chain(r.iter()).all(|x| *x == 0.0) {
+                    *silent_samples = silent_samples.saturating_add(l.len());
                 } else {
                     *silent_samples = 0;
                 }
                 if editor_open {
-                    tap.push(stretch);
+                    tap.push_mid(l, r);
                     let (bx, by) = voice.ball_position();
                     tap.set_ball(bx as f32, by as f32);
                 }
-                for ch in channels.iter_mut() {
-                    ch[at..at + stretch.len()].copy_from_slice(stretch);
+                match channels {
+                    [mono] => {
+                        for ((o, x), y) in mono[at..at + l.len()].iter_mut().zip(&*l).zip(&*r) {
+                            *o = flush_subnormal(0.5 * (x + y));
+                        }
+                    }
+                    [out_l, out_r, ..] => {
+                        out_l[at..at + l.len()].copy_from_slice(l);
+                        out_r[at..at + r.len()].copy_from_slice(r);
+                    }
+                    [] => {}
                 }
             });
             piece += len;
         }
+        self.meter
+            .record(limiter.gain_reduction_db(), limiter.touched());
         ProcessStatus::KeepAlive
+    }
+}
+
+/// Zero for a subnormal sample (what a host must never be handed, #13).
+#[inline]
+fn flush_subnormal(x: f32) -> f32 {
+    if x.is_subnormal() {
+        0.0
+    } else {
+        x
     }
 }
 
@@ -362,20 +438,22 @@ mod tests {
                 );
                 let lo = ptr.preview_plain(0.0);
                 let hi = ptr.preview_plain(1.0);
+                // The table's range, except quality: draft…ultra ('reference' is offline only).
+                let (min, max) = params::plugin_range(spec);
                 assert!(
-                    (f64::from(lo) - spec.min).abs() < 1e-3 * (1.0 + spec.min.abs()),
+                    (f64::from(lo) - min).abs() < 1e-3 * (1.0 + min.abs()),
                     "{}",
                     spec.key
                 );
                 assert!(
-                    (f64::from(hi) - spec.max).abs() < 1e-3 * (1.0 + spec.max.abs()),
+                    (f64::from(hi) - max).abs() < 1e-3 * (1.0 + max.abs()),
                     "{}",
                     spec.key
                 );
                 if let ParamKind::Enum(names) = spec.kind {
                     assert_eq!(
                         ptr.normalized_value_to_string(1.0, false),
-                        names[names.len() - 1]
+                        names[max as usize]
                     );
                 }
             }
@@ -394,6 +472,9 @@ mod tests {
         assert_eq!(f("gain_db", -6.0), "-6.0 dB");
         assert_eq!(f("object_size", 1.2), "1.200 m");
         assert_eq!(f("shape", 3.0), "shell");
+        assert_eq!(f("width", 0.8), "80 %");
+        assert_eq!(f("limiter", 1.0), "on");
+        assert_eq!(f("quality", 3.0), "ultra");
         let s = spec_by_key("roughness").unwrap();
         assert_eq!(s.parse_clamped("25 %"), Ok(0.25));
         assert_eq!(spec_by_key("shape").unwrap().parse_clamped("bar"), Ok(1.0));
@@ -467,6 +548,11 @@ mod tests {
         assert_eq!(read("run", "always"), Some(1.0));
         assert_eq!(read("run", "With transport"), Some(0.0));
         assert_eq!(read("seed", "16777215"), Some(16_777_215.0));
+        assert_eq!(read("width", "50 %"), Some(0.5));
+        assert_eq!(read("limiter", "off"), Some(0.0));
+        assert_eq!(read("limiter", "on"), Some(1.0));
+        assert_eq!(read("quality", "ultra"), Some(3.0));
+        assert_eq!(read("quality", "reference"), Some(3.0));
         assert_eq!(read("velocity", "fast"), None);
     }
 }

@@ -7,6 +7,11 @@
 //! so the plugin, the CLI, the presets and the tests cannot disagree. Two plugin-only
 //! parameters follow: `run` (transport behaviour) and `bypass`.
 //!
+//! One row is narrower in the plugin than in the table: `quality` offers draft…ultra only
+//! (0..=3, [`plugin_range`]). Its fifth variant, `reference` (every mode of the shape
+//! explicit, thousands of them), is for offline renders; a saved state, a preset or typed
+//! text asking for it gets `ultra`, with a logged reason ([`to_plugin_value`]).
+//!
 //! `Params` is implemented by hand (nice-plug allows it) because the parameter list is data.
 //!
 //! # Saved state
@@ -37,7 +42,9 @@ use nice_plug_egui::EguiEditorState;
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::Arc;
-use trundle_dsp::params::{ParamKind, ParamSpec, PARAMS};
+use trundle_dsp::object::Quality;
+use trundle_dsp::params::{ParamEnum, ParamKind, ParamSpec, PARAMS};
+use trundle_dsp::ParamId;
 
 /// Version of the saved state (bumped when the meaning of a saved parameter or field
 /// changes; a step is then added to [`STATE_MIGRATIONS`]).
@@ -102,7 +109,38 @@ pub fn parse_run(text: &str) -> Option<i32> {
         .or_else(|| t.parse::<i32>().ok().filter(|i| (0..=1).contains(i)))
 }
 
+/// The quality the plugin offers at most: `ultra`. `reference` is offline only.
+pub const PLUGIN_QUALITY_MAX: Quality = Quality::Ultra;
+
+/// The range (in the table's units) a table row has as a plugin parameter: the table's,
+/// except `quality`, which stops at [`PLUGIN_QUALITY_MAX`].
+pub fn plugin_range(spec: &ParamSpec) -> (f64, f64) {
+    match spec.id {
+        ParamId::Quality => (spec.min, PLUGIN_QUALITY_MAX.index() as f64),
+        _ => (spec.min, spec.max),
+    }
+}
+
+/// A table value (from a preset or a saved state) as the plugin can hold it, with the
+/// reason when it had to change: a quality above [`PLUGIN_QUALITY_MAX`] (`reference`) is
+/// offline only and becomes `ultra`. Other values pass unchanged.
+pub fn to_plugin_value(spec: &ParamSpec, v: f64) -> (f64, Option<String>) {
+    let (_, hi) = plugin_range(spec);
+    if spec.id == ParamId::Quality && v > hi {
+        let name = |x: f64| Quality::from_value(x).name();
+        let reason = format!(
+            "quality '{}' is offline only (every mode explicit, thousands of them: `trundle \
+             render`); '{}' loaded",
+            name(v),
+            name(hi)
+        );
+        return (hi, Some(reason));
+    }
+    (v, None)
+}
+
 fn make(spec: &'static ParamSpec) -> TableParam {
+    let (_, plugin_max) = plugin_range(spec);
     match spec.kind {
         ParamKind::Float { log, .. } => {
             let (min, max) = (spec.min as f32, spec.max as f32);
@@ -136,12 +174,13 @@ fn make(spec: &'static ParamSpec) -> TableParam {
                 spec.default as i32,
                 IntRange::Linear {
                     min: spec.min as i32,
-                    max: spec.max as i32,
+                    max: plugin_max as i32,
                 },
             )
             .with_value_to_string(Arc::new(move |v| spec.format(f64::from(v))))
+            // Typed text beyond the plugin's range (`reference`) reads as its top.
             .with_string_to_value(Arc::new(move |s| {
-                spec.parse_clamped(s).ok().map(|v| v as i32)
+                spec.parse_clamped(s).ok().map(|v| v.min(plugin_max) as i32)
             })),
         ),
     }
@@ -282,6 +321,15 @@ impl Expect {
             Expect::Table(spec) => {
                 let (lo, hi) = (spec.min, spec.max);
                 let in_range = |x: f64| x.is_finite() && x >= lo && x <= hi;
+                // A value of the table's range the plugin does not offer (`reference`).
+                let narrowed = |i: i32, note: Option<String>| {
+                    let (v, why) = to_plugin_value(spec, f64::from(i));
+                    let note = match (note, why) {
+                        (Some(a), Some(b)) => Some(format!("{a}; {b}")),
+                        (a, b) => a.or(b),
+                    };
+                    (ParamValue::I32(v as i32), note)
+                };
                 match (spec.kind, v) {
                     (ParamKind::Float { .. }, ParamValue::F32(x)) => {
                         // The range bounds as the f32 the parameter itself stores.
@@ -300,7 +348,7 @@ impl Expect {
                     }
                     (ParamKind::Int | ParamKind::Enum(_), ParamValue::I32(i)) => {
                         if in_range(f64::from(*i)) {
-                            Ok((ParamValue::I32(*i), None))
+                            Ok(narrowed(*i, None))
                         } else {
                             Err(format!("value {i} is outside {lo}..={hi}"))
                         }
@@ -308,14 +356,14 @@ impl Expect {
                     (ParamKind::Int | ParamKind::Enum(_), ParamValue::F32(x))
                         if whole(*x) && in_range(f64::from(*x)) =>
                     {
-                        Ok((
-                            ParamValue::I32(*x as i32),
+                        Ok(narrowed(
+                            *x as i32,
                             Some(format!("whole float {x} read as an integer")),
                         ))
                     }
                     (ParamKind::Enum(_), ParamValue::String(name)) => match spec.parse(name) {
-                        Ok(index) => Ok((
-                            ParamValue::I32(index as i32),
+                        Ok(index) => Ok(narrowed(
+                            index as i32,
                             Some(format!("variant name {name:?} read as index {index}")),
                         )),
                         Err(e) => Err(e.to_string()),
@@ -595,6 +643,59 @@ mod tests {
         let report = check_state(&mut s);
         assert_eq!(report.len(), 1, "{report:?}");
         assert_eq!(f32_of(&s, "asymmetry"), 0.6);
+    }
+
+    #[test]
+    fn a_reference_quality_state_loads_as_ultra_with_a_reason() {
+        let reference = Quality::Reference.index() as i32;
+        let ultra = Quality::Ultra.index() as i32;
+        for saved_as in [
+            ParamValue::I32(reference),
+            ParamValue::F32(reference as f32),
+            ParamValue::String("reference".into()),
+        ] {
+            let mut s = saved();
+            s.params.insert("quality".into(), saved_as.clone());
+            let report = check_state(&mut s);
+            assert_eq!(i32_of(&s, "quality"), ultra, "{saved_as:?}");
+            assert!(
+                report
+                    .iter()
+                    .any(|l| l.contains("'quality'") && l.contains("offline only")),
+                "{saved_as:?}: {report:?}"
+            );
+        }
+        // Every quality the plugin offers loads as saved, silently.
+        for q in 0..=ultra {
+            let mut s = saved();
+            s.params.insert("quality".into(), ParamValue::I32(q));
+            assert!(check_state(&mut s).is_empty());
+            assert_eq!(i32_of(&s, "quality"), q);
+        }
+    }
+
+    #[test]
+    fn the_plugin_quality_stops_at_ultra() {
+        let spec = ParamId::Quality.spec();
+        assert_eq!(plugin_range(spec), (0.0, 3.0));
+        assert_eq!(spec.max, 4.0, "the table still has 'reference'");
+        let p = TrundleParams::default();
+        let TableParam::Int(q) = p.get(ParamId::Quality) else {
+            panic!("quality is an enumeration");
+        };
+        assert_eq!(q.preview_plain(1.0), 3);
+        assert_eq!(q.normalized_value_to_string(1.0, true), "ultra");
+        // Typed 'reference' reads as the top of the plugin's range.
+        let n = q.string_to_normalized_value("reference").unwrap();
+        assert_eq!(q.preview_plain(n), 3);
+        // Every other row keeps the table's range.
+        for spec in PARAMS.iter().filter(|s| s.id != ParamId::Quality) {
+            assert_eq!(plugin_range(spec), (spec.min, spec.max), "{}", spec.key);
+            assert_eq!(to_plugin_value(spec, spec.max), (spec.max, None));
+        }
+        let (v, why) = to_plugin_value(spec, 4.0);
+        assert_eq!(v, 3.0);
+        assert!(why.unwrap().contains("'reference'"));
     }
 
     #[test]

@@ -127,7 +127,8 @@ impl TrundleEditor {
     pub(super) fn current_preset(&self) -> Option<usize> {
         let matches = |preset: &Preset| {
             PARAMS.iter().all(|spec| {
-                let want = preset.params.get(spec.id);
+                // What loading the preset gives (a `reference` quality loads as `ultra`).
+                let (want, _) = to_plugin_value(spec, preset.params.get(spec.id));
                 let have = self.params.get(spec.id).value();
                 (want - have).abs() <= 1e-5 * (spec.max - spec.min)
             })
@@ -140,13 +141,18 @@ impl TrundleEditor {
         self.presets.iter().position(matches)
     }
 
-    /// Load a built-in preset: every table parameter as one gesture of its own.
+    /// Load a built-in preset: every table parameter as one gesture of its own. A value the
+    /// plugin does not offer (quality `reference`, offline only) is loaded as its nearest
+    /// (`ultra`), with the reason logged.
     pub(super) fn load_preset(&mut self, index: usize, setter: &ParamSetter) {
         let Some(preset) = self.presets.get(index) else {
             return;
         };
         for spec in PARAMS.iter() {
-            let v = preset.params.get(spec.id);
+            let (v, why) = to_plugin_value(spec, preset.params.get(spec.id));
+            if let Some(why) = why {
+                nice_warn!("Trundle preset '{}': {why}", preset.name);
+            }
             match self.params.get(spec.id) {
                 TableParam::Float(p) => widgets::set_once(setter, p, v as f32),
                 TableParam::Int(p) => widgets::set_once(setter, p, v.round() as i32),

@@ -54,7 +54,7 @@ impl Layout {
         let bottom_h = bottom_h - tabs_h;
         let bottom = Rect::from_min_size(Pos2::new(x0, y), Vec2::new(inner.width(), bottom_h));
         // Bottom row: widths proportional to what each section holds.
-        let units = [6.5, 4.3, 3.5];
+        let units = [6.4, 4.3, 4.6];
         let total: f32 = units.iter().sum();
         let free_w = inner.width() - 2.0 * gap;
         let w0 = free_w * units[0] / total;

@@ -10,8 +10,9 @@
 //! │              │              │ trajectory,   │                             │
 //! │              │              │ amount        │                             │
 //! ├ BALL ───────────────────────┬ OBJECT ───────────────┬ OUTPUT ─────────────┤
-//! │ five knobs + engine, AM law │ three knobs + shape   │ gain + output, run, │
-//! │                             │                       │ seed                │
+//! │ five knobs + engine, AM law │ three knobs + shape   │ gain, width +       │
+//! │                             │                       │ output, run, seed,  │
+//! │                             │                       │ limiter + its meter │
 //! └ hints ─────────────────────────────────────────────── version · API · rate ┘
 //! ```
 //!
@@ -22,6 +23,9 @@
 //!   `editor/widgets.rs`), so host automation recording works.
 //! * Table rows added after this layout was drawn are not lost: they appear with generic
 //!   controls on a second page ("MORE") until they get a designed place.
+//! * The limiter's gain reduction comes from the audio thread's lock-free [`LimiterMeter`]
+//!   (the deepest reduction since the last frame), shown with a hold and a fall
+//!   ([`Ballistics`]) beside the limiter's on/off switch.
 //! * The spectrum is computed here, on the GUI thread, from the audio thread's lock-free
 //!   [`SpectrumTap`] — only while the window is open, with buffers allocated once (the
 //!   one per-frame allocation is the shape handed to egui, which takes ownership of it).
@@ -36,7 +40,8 @@ mod widgets;
 use layout::*;
 use theme::*;
 
-use crate::params::{TableParam, TrundleParams};
+use crate::meter::{Ballistics, LimiterMeter};
+use crate::params::{to_plugin_value, TableParam, TrundleParams};
 use crate::spectrum::{SpectrumAnalyzer, SpectrumTap, COLUMNS, F_LO_HZ};
 use egui::{Align2, Color32, FontId, Id, Pos2, Rect, Sense, Stroke, UiBuilder, Vec2};
 use nice_plug::context::gui::GuiContext;
@@ -59,6 +64,9 @@ const MIN_H: f32 = 450.0;
 pub struct TrundleEditor {
     params: Arc<TrundleParams>,
     tap: Arc<SpectrumTap>,
+    meter: Arc<LimiterMeter>,
+    /// The limiter meter's display state.
+    reduction: Ballistics,
     gui: Option<GuiContext>,
     analyzer: SpectrumAnalyzer,
     presets: Vec<Preset>,
@@ -74,7 +82,7 @@ pub struct TrundleEditor {
 }
 
 /// The table rows with a designed control (typed: a renamed or removed row fails to compile).
-const PLACED: [ParamId; 24] = [
+const PLACED: [ParamId; 26] = [
     ParamId::Size,
     ParamId::Velocity,
     ParamId::Roughness,
@@ -99,6 +107,8 @@ const PLACED: [ParamId; 24] = [
     ParamId::ListenY,
     ParamId::Comb,
     ParamId::Trajectory,
+    ParamId::Width,
+    ParamId::Limiter,
 ];
 
 /// Build the editor for the plugin.
@@ -109,6 +119,7 @@ const PLACED: [ParamId; 24] = [
 pub fn create(
     params: Arc<TrundleParams>,
     tap: Arc<SpectrumTap>,
+    meter: Arc<LimiterMeter>,
 ) -> Option<EguiEditor<TrundleEditor>> {
     let presets = BUILTIN_PRESETS
         .iter()
@@ -117,6 +128,8 @@ pub fn create(
     let app = TrundleEditor {
         params: params.clone(),
         tap,
+        meter,
+        reduction: Ballistics::default(),
         gui: None,
         analyzer: SpectrumAnalyzer::new(),
         presets,
@@ -287,8 +300,14 @@ impl NiceEguiApp for TrundleEditor {
         }
 
         let body = panel(ui, l.output, "OUTPUT", None, &t);
-        let (knobs, side) = split_side(body, 1, 2.5);
-        self.knob_row(ui, knobs, &setter, &t, &[(ParamId::GainDb, "Gain")]);
+        let (knobs, side) = split_side(body, 2, 2.6);
+        self.knob_row(
+            ui,
+            knobs,
+            &setter,
+            &t,
+            &[(ParamId::GainDb, "Gain"), (ParamId::Width, "Width")],
+        );
         self.output_stack(ui, side, &setter, &t);
 
         self.footer(ui, l.footer, &gui, &t);

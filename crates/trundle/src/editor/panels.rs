@@ -104,16 +104,17 @@ impl TrundleEditor {
         }
     }
 
-    /// The output section's side column: output selector, run selector, seed.
+    /// The output section's side column: output selector, run selector, seed, and the
+    /// limiter's switch beside its gain-reduction meter.
     pub(super) fn output_stack(
-        &self,
+        &mut self,
         ui: &mut egui::Ui,
         side: Rect,
         setter: &ParamSetter,
         t: &Theme,
     ) {
         let s = t.scale;
-        let row_h = side.height() / 3.0;
+        let row_h = side.height() / 4.0;
         let control_h = (22.0 * s).min(row_h * 0.55);
         let row = |i: usize| {
             let top = side.top() + row_h * i as f32;
@@ -174,6 +175,41 @@ impl TrundleEditor {
                 let next = (splitmix(p.unmodulated_plain_value() as u64) & 0x7fff_ffff) as i32;
                 widgets::set_once(setter, p, next);
             }
+        }
+
+        let (label, control) = row(3);
+        widgets::caption(ui, label.left_top(), Align2::LEFT_TOP, "Limiter", t);
+        // The meter runs every frame (the audio thread's value is taken and cleared), so
+        // its hold and fall keep time whether or not the limiter is on.
+        let dt = ui.input(|i| i.stable_dt);
+        let shown = self.reduction.update(self.meter.take_reduction_db(), dt);
+        if let TableParam::Int(p) = self.params.get(ParamId::Limiter) {
+            let switch_w = (0.42 * control.width()).min(64.0 * s);
+            let switch = Rect::from_min_size(control.min, Vec2::new(switch_w, control.height()));
+            widgets::int_toggle(ui, switch, p, setter, "ON", ACCENT, t)
+                .on_hover_text(ParamId::Limiter.spec().doc);
+            let on = p.unmodulated_plain_value() != 0;
+            let meter = Rect::from_min_max(
+                Pos2::new(switch.right() + 4.0 * s, control.top()),
+                control.max,
+            );
+            let latency_ms = 1e3 * self.meter.latency() as f32 / self.tap.sample_rate().max(1.0);
+            widgets::reduction_meter(
+                ui,
+                meter,
+                shown,
+                on && self.reduction.acting(),
+                if on { "idle" } else { "off" },
+                BYPASS_ON,
+                t,
+            )
+            .on_hover_text(format!(
+                "Gain reduction of the safety limiter (the deepest of the last moments; the \
+                 bar spans {:.0} dB). It acts only on peaks over -1 dBFS. Latency {} samples \
+                 ({latency_ms:.1} ms), reported to the host, the same with the limiter off.",
+                widgets::METER_RANGE_DB,
+                self.meter.latency(),
+            ));
         }
     }
 

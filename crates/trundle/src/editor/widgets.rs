@@ -323,7 +323,57 @@ pub fn toggle(
     if resp.clicked() {
         set_once(setter, param, !param.unmodulated_plain_value());
     }
-    let on = param.unmodulated_plain_value();
+    pill(
+        ui,
+        rect,
+        &resp,
+        param.unmodulated_plain_value(),
+        label,
+        on_colour,
+        t,
+    );
+    resp
+}
+
+/// A pill-shaped switch for a two-valued integer `param` (an off/on enumeration: 0 = off,
+/// 1 = on) showing `label`; lit in `on_colour` when on. A click is one gesture.
+pub fn int_toggle(
+    ui: &mut egui::Ui,
+    rect: Rect,
+    param: &IntParam,
+    setter: &ParamSetter,
+    label: &str,
+    on_colour: Color32,
+    t: &Theme,
+) -> Response {
+    let id = ui.scope_id().with(("int_toggle", param.name()));
+    let resp = ui.interact(rect, id, Sense::click());
+    let on = param.unmodulated_plain_value() != 0;
+    if resp.clicked() {
+        set_once(setter, param, if on { 0 } else { 1 });
+    }
+    pill(
+        ui,
+        rect,
+        &resp,
+        param.unmodulated_plain_value() != 0,
+        label,
+        on_colour,
+        t,
+    );
+    resp
+}
+
+/// Draw a pill switch: a dot on the left, the label, filled in `on_colour` when `on`.
+fn pill(
+    ui: &egui::Ui,
+    rect: Rect,
+    resp: &Response,
+    on: bool,
+    label: &str,
+    on_colour: Color32,
+    t: &Theme,
+) {
     let painter = ui.painter_at(rect.expand(1.0));
     let radius = 0.5 * rect.height();
     let fill = if on {
@@ -352,6 +402,52 @@ pub fn toggle(
         label,
         FontId::proportional(t.font_small),
         if on { t.on_accent } else { t.text },
+    );
+}
+
+/// Deepest reduction the gain-reduction meter spans, dB.
+pub const METER_RANGE_DB: f32 = 12.0;
+
+/// A horizontal gain-reduction meter in `rect`: a bar growing from the right edge by
+/// `reduction_db` (0…[`METER_RANGE_DB`]), lit in `acting_colour` while the limiter acts,
+/// with the reduction written over it ("−3.2 dB", or `idle_text`). Display only.
+pub fn reduction_meter(
+    ui: &egui::Ui,
+    rect: Rect,
+    reduction_db: f32,
+    acting: bool,
+    idle_text: &str,
+    acting_colour: Color32,
+    t: &Theme,
+) -> Response {
+    let resp = ui.interact(rect, ui.scope_id().with("reduction_meter"), Sense::hover());
+    let painter = ui.painter_at(rect.expand(1.0));
+    let radius = t.radius_small();
+    painter.rect_filled(rect, radius, t.well);
+    if acting {
+        let k = (reduction_db / METER_RANGE_DB).clamp(0.0, 1.0);
+        // At least a sliver, so a fraction of a dB is still seen.
+        let w = (k * rect.width()).max(0.1 * rect.height());
+        let bar = Rect::from_min_max(Pos2::new(rect.right() - w, rect.top()), rect.max);
+        painter.rect_filled(bar.shrink(1.0), radius, acting_colour);
+    }
+    let text = if acting {
+        format!("\u{2212}{reduction_db:.1} dB")
+    } else {
+        idle_text.to_string()
+    };
+    painter.text(
+        Pos2::new(rect.left() + 0.5 * t.font_small, rect.center().y),
+        Align2::LEFT_CENTER,
+        text,
+        FontId::proportional(t.font_small),
+        if acting { t.text } else { t.text_dim },
+    );
+    painter.rect_stroke(
+        rect,
+        radius,
+        Stroke::new(1.0, t.border),
+        egui::StrokeKind::Inside,
     );
     resp
 }
