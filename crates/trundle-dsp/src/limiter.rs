@@ -65,10 +65,10 @@ pub struct Limiter {
     dq_head: usize,
     dq_len: usize,
     /// Released gains of the last `len` samples and their running sum (box average).
-    box_vals: Vec<f32>,
+    box_vals: Vec<f64>,
     box_sum: f64,
-    released: f32,
-    release_coef: f32,
+    released: f64,
+    release_coef: f64,
     /// Samples processed since `reset`.
     t: u64,
     /// Smallest gain applied since the meter was last read.
@@ -120,7 +120,7 @@ impl Limiter {
         self.req = vec![1.0; self.len + 1];
         self.deque = vec![0; self.len + 1];
         self.box_vals = vec![1.0; self.len];
-        self.release_coef = (1.0 - (-1.0 / (RELEASE_S * fs)).exp()) as f32;
+        self.release_coef = 1.0 - (-1.0 / (RELEASE_S * fs)).exp();
         self.reset();
     }
 
@@ -209,18 +209,27 @@ impl Limiter {
         }
         let held = self.req[(self.deque[self.dq_head] % cap as u64) as usize];
         // Release: fall at once, rise by a one-pole.
+        // Release in f64 (in f32 the one-pole's step rounds to nothing 10⁻⁴ below unity
+        // and the gain would stall there); within 10⁻⁹ of the held gain it snaps to it, so
+        // an idle limiter is exactly transparent. Still ≤ the held gain: the ceiling holds.
+        let held = f64::from(held);
         self.released = if held < self.released {
             held
         } else {
-            self.released + (held - self.released) * self.release_coef
+            let next = self.released + (held - self.released) * self.release_coef;
+            if held - next < 1e-9 {
+                held
+            } else {
+                next
+            }
         };
         // Box average over the last len released gains.
         let slot = (t % self.len as u64) as usize;
-        self.box_sum += f64::from(self.released) - f64::from(self.box_vals[slot]);
+        self.box_sum += self.released - self.box_vals[slot];
         self.box_vals[slot] = self.released;
         if slot == 0 {
             // Re-sum once per window: no drift of the running sum, however long the render.
-            self.box_sum = self.box_vals.iter().map(|&v| f64::from(v)).sum();
+            self.box_sum = self.box_vals.iter().sum();
         }
         let gain = ((self.box_sum / self.len as f64) as f32).min(1.0);
         // Delay line.
@@ -269,6 +278,33 @@ fn flush(x: f32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// After acting, the limiter returns to exactly unity gain: later quiet samples pass
+    /// bit for bit (delayed) and are not counted as touched.
+    #[test]
+    fn release_returns_to_exact_transparency() {
+        let fs = 48_000.0;
+        let mut lim = Limiter::new(fs);
+        let len = lim.latency_samples();
+        for i in 0..1_000 {
+            let x = if i == 100 { 2.0 } else { 0.1 };
+            lim.process_frame(x, x);
+        }
+        // Two seconds of release (25 time constants).
+        for _ in 0..96_000 {
+            lim.process_frame(0.1, -0.1);
+        }
+        let touched = lim.touched();
+        for i in 0..10_000 {
+            let x = (i as f32 * 0.01).sin() * 0.5;
+            let (l, _) = lim.process_frame(x, x);
+            if i >= len {
+                let want = ((i - len) as f32 * 0.01).sin() * 0.5;
+                assert_eq!(l, want, "sample {i}");
+            }
+        }
+        assert_eq!(lim.touched(), touched, "quiet samples counted as touched");
+    }
 
     fn noise(n: usize, seed: u32) -> Vec<f32> {
         let mut s = seed;
