@@ -372,12 +372,13 @@ fn a_roll_on_a_known_object_is_fitted_through_its_inverse() {
     let modes: Vec<FitMode> = obj
         .modes()
         .iter()
-        .filter(|m| m.gain > 0.0)
+        .filter(|m| m.gain != 0.0)
         .map(|m| FitMode {
             freq_hz: m.freq_hz,
             decay_s: m.decay_s,
-            amplitude: m.gain,
-            phase_rad: -std::f64::consts::FRAC_PI_2,
+            // A negative gain (the ball on a negative lobe of the mode) is a phase of π.
+            amplitude: m.gain.abs(),
+            phase_rad: -std::f64::consts::FRAC_PI_2.copysign(m.gain),
         })
         .collect();
     let file = FittedObject {
