@@ -594,8 +594,7 @@ impl Object {
         // Explicit modes: those in use, and any beyond that still ring (they keep a valid
         // pole and ring out with no input).
         let span = self.modes.max(self.bank.active()).min(table.len());
-        for k in 0..span {
-            let m = &table[k];
+        for (k, m) in table.iter().enumerate().take(span) {
             let f = f1 * m.ratio;
             let limit = if reference { top_hz } else { nyquist };
             let sounding = k < self.modes && f < limit && f >= MIN_MODE_HZ;
@@ -709,13 +708,13 @@ impl Object {
         }
         // Balance: each channel's weighted mean square pickup gain is 1.
         let (mut sum_w, mut sum_l, mut sum_r) = (0.0, 0.0, 0.0);
-        for k in 0..self.modes.min(table.len()) {
+        for (k, mode) in table.iter().enumerate().take(self.modes) {
             let a = self.amp[k];
             if a == 0.0 {
                 continue;
             }
-            let pl = self.pick_shapes[0].phi(&table[k]).abs();
-            let pr = self.pick_shapes[1].phi(&table[k]).abs();
+            let pl = self.pick_shapes[0].phi(mode).abs();
+            let pr = self.pick_shapes[1].phi(mode).abs();
             self.pick[k] = [pl, pr];
             let w = a * a * self.info[k].decay_s;
             sum_w += w;
@@ -771,14 +770,14 @@ impl Object {
         // Pre-normalization mid gains, and the total mid energy E.
         let mut energy = 0.0;
         let mut loudest = 0.0f64;
-        for k in 0..n {
+        for (k, mode) in table.iter().enumerate().take(n) {
             let a = self.amp[k];
             if a == 0.0 {
                 self.info[k].gain = 0.0;
                 self.info[k].side = 0.0;
                 continue;
             }
-            let e = self.ball_shapes.phi(&table[k]);
+            let e = self.ball_shapes.phi(mode);
             let [ql, qr] = self.pick[k];
             let mid = 0.5 * (ql + qr);
             let x = a * e * mid;
