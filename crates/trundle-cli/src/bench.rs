@@ -6,7 +6,9 @@
 //! | key | what runs |
 //! |---|---|
 //! | `modal_ns_per_mode_sample` | the Mathews–Smith bank alone, 128 modes, chunks of 64 samples, run-time kernel |
-//! | `voice_ns_per_sample` | a default voice (signal engine) with 32 modes |
+//! | `voice_ns_per_sample` | a default voice (signal engine) with 32 modes, its high band and both channels |
+//! | `voice_no_high_band_ns_per_sample` | the same voice with the object's high band switched off |
+//! | `high_band_cost_ratio` | the first over the second: what the full band costs (target ≤ 1.3) |
 //! | `physics_ns_per_sample` | the same with `engine = physics` |
 //! | `scene16_ns_per_sample` | 16 default voices (seeds 1…16) summed: sixteen balls on sixteen objects |
 //! | `balls16_ns_per_sample` | one voice with 16 extra balls on its object ([`trundle_dsp::balls`]) |
@@ -38,6 +40,9 @@ const TARGET_MODAL: f64 = 0.3;
 const TARGET_VOICE: f64 = 23.0;
 /// Target for the physics voice at 32 modes (ns per sample).
 const TARGET_PHYSICS: f64 = 231.0;
+/// Target for the cost of the object's high band: the voice with it over the voice without
+/// (issue #12).
+const TARGET_HIGH_BAND: f64 = 1.3;
 
 /// Arguments of `trundle bench`.
 #[derive(Args, Debug)]
@@ -77,7 +82,13 @@ fn params(modes: usize, engine: &str, seed: u64) -> Result<Params, CliError> {
 
 /// A voice warmed past its onset (every mode sounding).
 fn warm_voice(p: &Params) -> Voice {
+    warm_voice_band(p, true)
+}
+
+/// [`warm_voice`] with the object's high band on or off.
+fn warm_voice_band(p: &Params, high_band: bool) -> Voice {
     let mut v = Voice::new(FS, p);
+    v.set_high_band(high_band);
     let mut buf = vec![0f32; BLOCK];
     for _ in 0..100 {
         v.process(&mut buf);
@@ -162,6 +173,10 @@ struct Report {
     scene16: f64,
     balls16: f64,
     idle: f64,
+    /// The 32-mode voice with its high band off (measured beside the one with it).
+    no_high_band: f64,
+    /// The 32-mode voice with its high band, measured beside `no_high_band`.
+    with_high_band: f64,
 }
 
 fn measure(quick: bool) -> Result<Report, CliError> {
@@ -174,6 +189,15 @@ fn measure(quick: bool) -> Result<Report, CliError> {
     for m in [8, 32, 128] {
         let mut v = [warm_voice(&params(m, "signal", 1)?)];
         voice.push((m, voices_ns(budget, &mut v)));
+    }
+    // The high band's cost: the same voice with and without it, measured in turns so both
+    // see the same machine load.
+    let (mut with_hb, mut without_hb) = (f64::INFINITY, f64::INFINITY);
+    let mut on = [warm_voice_band(&params(32, "signal", 1)?, true)];
+    let mut off = [warm_voice_band(&params(32, "signal", 1)?, false)];
+    for _ in 0..3 {
+        with_hb = with_hb.min(voices_ns(budget, &mut on));
+        without_hb = without_hb.min(voices_ns(budget, &mut off));
     }
     let physics = voices_ns(budget, &mut [warm_voice(&params(32, "physics", 1)?)]);
     let source = source_ns(budget);
@@ -211,6 +235,8 @@ fn measure(quick: bool) -> Result<Report, CliError> {
         scene16,
         balls16,
         idle,
+        no_high_band: without_hb,
+        with_high_band: with_hb,
     })
 }
 
@@ -257,6 +283,13 @@ fn table(r: &Report) -> String {
         realtime(r.source)
     );
     s += &format!(
+        "  32 modes, no high band {:>6.1}   (the full band costs ×{:.2} of it, measured in turns: {:.1} vs {:.1})\n",
+        r.no_high_band,
+        r.with_high_band / r.no_high_band,
+        r.with_high_band,
+        r.no_high_band
+    );
+    s += &format!(
         "\nphysics, 32 modes     {:>9.1} ns/sample   real-time ×{:.0}\n",
         r.physics,
         realtime(r.physics)
@@ -277,10 +310,11 @@ fn table(r: &Report) -> String {
         100.0 * r.idle / at(&r.voice, 32)
     );
     s += &format!(
-        "\ntargets: bank ≤ {TARGET_MODAL} ns/mode·sample at 128 modes: {}; voice ≤ {TARGET_VOICE} ns/sample at 32 modes: {}; physics ≤ {TARGET_PHYSICS} ns/sample at 32 modes: {}\n",
+        "\ntargets: bank ≤ {TARGET_MODAL} ns/mode·sample at 128 modes: {}; voice ≤ {TARGET_VOICE} ns/sample at 32 modes: {}; physics ≤ {TARGET_PHYSICS} ns/sample at 32 modes: {}; high band ≤ ×{TARGET_HIGH_BAND}: {}\n",
         verdict(at(&r.modal, 128), TARGET_MODAL),
         verdict(at(&r.voice, 32), TARGET_VOICE),
         verdict(r.physics, TARGET_PHYSICS),
+        verdict(r.with_high_band / r.no_high_band, TARGET_HIGH_BAND),
     );
     s
 }
@@ -307,7 +341,11 @@ fn to_json(r: &Report) -> String {
         "scene16_ns_per_sample": r.scene16,
         "balls16_ns_per_sample": r.balls16,
         "idle_ns_per_sample": r.idle,
+        "voice_no_high_band_ns_per_sample": r.no_high_band,
+        "voice_with_high_band_ns_per_sample": r.with_high_band,
+        "high_band_cost_ratio": r.with_high_band / r.no_high_band,
         "targets": {
+            "high_band_cost_ratio": TARGET_HIGH_BAND,
             "modal_ns_per_mode_sample": TARGET_MODAL,
             "voice_ns_per_sample": TARGET_VOICE,
             "physics_ns_per_sample": TARGET_PHYSICS,

@@ -66,7 +66,7 @@
 //! recurrences, not a sine per mode).
 
 use crate::material::Material;
-use crate::modal::{phasor_coeffs, ModalBank, ModeCoeffs, LANES};
+use crate::modal::{phasor_coeffs, LongBank, ModalBank, ModeCoeffs, LANES, LONG_MODE_SAMPLES};
 use crate::params::{ParamEnum, ParamId};
 use crate::shape::{PositionShapes, Shape, ShapeTables, MAX_MODES, REFERENCE_MODES};
 use crate::smooth::Smoother;
@@ -94,6 +94,12 @@ pub const PICKUP_HALF_SPACING: f64 = 0.5;
 
 /// Bank slot of the first high-band representative (after every explicit mode).
 const HIGH_BASE: usize = REFERENCE_MODES;
+
+/// Most modes run in f64 at once ([`LongBank`]); further long modes stay in the f32 bank.
+pub const LONG_MODES_MAX: usize = 64;
+
+/// No long slot.
+const NOT_LONG: u8 = u8::MAX;
 
 /// The accuracy/cost budget (the `quality` parameter): mode cap, high-band slots, culling
 /// threshold and the physics engine's oversampling.
@@ -300,6 +306,14 @@ pub struct Object {
     fs: f64,
     tables: ShapeTables,
     bank: ModalBank,
+    /// Modes whose decay outlasts the f32 bank's precision ([`LONG_MODE_SAMPLES`]).
+    long: LongBank,
+    /// Per bank slot, its slot in `long` (or [`NOT_LONG`]).
+    long_of: Vec<u8>,
+    /// Per long slot, its bank slot.
+    long_slot: [usize; LONG_MODES_MAX],
+    /// Some long slot held non-zero state after the last flush.
+    long_ringing: bool,
     /// Explicit modes, by table index.
     info: Vec<ModeInfo>,
     /// aₖ (0: not sounding) of each explicit mode.
@@ -353,6 +367,10 @@ impl Object {
             fs: crate::sanitize_sample_rate(sample_rate_hz),
             tables,
             bank: ModalBank::new(HIGH_BASE + HIGH_SLOTS_MAX),
+            long: LongBank::new(LONG_MODES_MAX),
+            long_of: vec![NOT_LONG; HIGH_BASE + HIGH_SLOTS_MAX],
+            long_slot: [0; LONG_MODES_MAX],
+            long_ringing: false,
             info: vec![ModeInfo::SILENT; REFERENCE_MODES],
             amp: vec![0.0; REFERENCE_MODES],
             pick: vec![[0.0; 2]; REFERENCE_MODES],
@@ -392,6 +410,9 @@ impl Object {
     pub fn set_sample_rate(&mut self, sample_rate_hz: f64) {
         self.fs = crate::sanitize_sample_rate(sample_rate_hz);
         self.bank = ModalBank::new(HIGH_BASE + HIGH_SLOTS_MAX);
+        self.long = LongBank::new(LONG_MODES_MAX);
+        self.long_of.iter_mut().for_each(|x| *x = NOT_LONG);
+        self.long_ringing = false;
         self.poles_dirty = true;
         self.update();
     }
@@ -399,6 +420,8 @@ impl Object {
     /// Silence the object and jump the controls to their targets (real-time safe).
     pub fn reset(&mut self) {
         self.bank.reset();
+        self.long.reset();
+        self.long_ringing = false;
         self.snap_controls();
     }
 
@@ -499,7 +522,7 @@ impl Object {
     /// True when the object has rung out: every processed mode's state is zero, so a zero
     /// input gives exact zeros.
     pub fn is_silent(&self) -> bool {
-        self.bank.is_silent()
+        self.bank.is_silent() && !self.long_ringing
     }
 
     fn smoothers(&self) -> [&Smoother; 7] {
@@ -517,7 +540,7 @@ impl Object {
     /// True when a chunk of zero input would change nothing: rung out, no control gliding,
     /// no recomputation due. Its output is then exact zeros.
     pub fn is_idle(&self) -> bool {
-        self.bank.is_silent()
+        self.is_silent()
             && !(self.poles_dirty || self.pickups_dirty || self.gains_dirty)
             && !self.smoothers().iter().any(|s| s.is_moving())
     }
@@ -525,7 +548,103 @@ impl Object {
     /// Mode·samples the bank has processed since `new` (see
     /// [`ModalBank::mode_samples`]): the object's work, for tests and benches.
     pub fn mode_samples(&self) -> u64 {
-        self.bank.mode_samples()
+        self.bank.mode_samples() + self.long.mode_samples()
+    }
+
+    /// Modes running in f64 (decays longer than [`LONG_MODE_SAMPLES`] samples).
+    pub fn long_modes(&self) -> usize {
+        self.long.used()
+    }
+
+    /// True when bank slot `k` holds state, in the f32 bank or in the long bank.
+    fn slot_ringing(&self, k: usize) -> bool {
+        match self.long_of[k] {
+            NOT_LONG => self.bank.energy(k) > 0.0,
+            j => self.long.energy(usize::from(j)) > 0.0,
+        }
+    }
+
+    /// Route the slots whose decay outlasts the f32 bank to the long bank (moving their
+    /// state), and the others back; set the long slots' poles.
+    fn assign_long_modes(&mut self) {
+        let fs = self.fs;
+        // The slots that want f64: sounding or ringing, with τ·f_s beyond the limit.
+        let mut want = [0usize; LONG_MODES_MAX];
+        let mut n_want = 0;
+        let explicit = self.modes.max(self.bank.active()).min(self.info.len());
+        for slot in (0..explicit).chain(HIGH_BASE..HIGH_BASE + HIGH_SLOTS_MAX) {
+            let (live, info) = if slot >= HIGH_BASE {
+                let j = slot - HIGH_BASE;
+                (j < self.n_high, self.high[j].info)
+            } else {
+                (self.amp[slot] != 0.0, self.info[slot])
+            };
+            if (live || self.slot_ringing(slot))
+                && info.decay_s * fs > LONG_MODE_SAMPLES
+                && info.freq_hz < 0.5 * fs
+                && info.freq_hz >= MIN_MODE_HZ
+                && n_want < LONG_MODES_MAX
+            {
+                want[n_want] = slot;
+                n_want += 1;
+            }
+        }
+        // Save the long states, release every long slot to the f32 bank.
+        let mut saved = [(0usize, 0.0f64, 0.0f64); LONG_MODES_MAX];
+        let n_old = self.long.used();
+        for (j, sv) in saved.iter_mut().enumerate().take(n_old) {
+            let (re, im) = self.long.state(j);
+            *sv = (self.long_slot[j], re, im);
+            self.long_of[self.long_slot[j]] = NOT_LONG;
+        }
+        self.long.reset();
+        for &(slot, re, im) in &saved[..n_old] {
+            if !want[..n_want].contains(&slot) {
+                // Back to f32, with its pole.
+                let info = self.slot_info(slot);
+                let (c, s) = phasor_coeffs(info.freq_hz, info.decay_s, fs);
+                let mc = self.bank.mode(slot);
+                self.bank.set_mode(slot, ModeCoeffs { c, s, ..mc });
+                self.bank.set_state(slot, re as f32, im as f32);
+            }
+        }
+        for (j, &slot) in want[..n_want].iter().enumerate() {
+            let info = self.slot_info(slot);
+            let (re, im) = match saved[..n_old].iter().find(|x| x.0 == slot) {
+                Some(&(_, re, im)) => (re, im),
+                None => {
+                    let (re, im) = self.bank.state(slot);
+                    (f64::from(re), f64::from(im))
+                }
+            };
+            self.long.set_mode(j, info.freq_hz, info.decay_s, fs);
+            self.long.set_state(j, re, im);
+            self.long_of[slot] = j as u8;
+            self.long_slot[j] = slot;
+            // The f32 slot falls silent: no pole, no state, no input.
+            self.bank.set_mode(slot, ModeCoeffs::default());
+            self.bank.set_state(slot, 0.0, 0.0);
+        }
+        self.long.set_used(n_want);
+    }
+
+    fn slot_info(&self, slot: usize) -> ModeInfo {
+        if slot >= HIGH_BASE {
+            self.high[slot - HIGH_BASE].info
+        } else {
+            self.info[slot]
+        }
+    }
+
+    /// Set bank slot `k`'s input gain and side weight, wherever it runs.
+    fn set_slot_gains(&mut self, k: usize, g: f64, d: f64) {
+        match self.long_of[k] {
+            NOT_LONG => self.bank.set_gains(k, g as f32, d as f32),
+            j => {
+                self.long.set_gains(usize::from(j), g, d);
+                self.bank.set_gains(k, 0.0, 0.0);
+            }
+        }
     }
 
     /// Jump the smoothed controls to their targets and recompute the modes.
@@ -606,7 +725,7 @@ impl Object {
             };
             self.info[k].freq_hz = f;
             self.info[k].decay_s = tau;
-            let ringing = self.bank.energy(k) > 0.0;
+            let ringing = self.slot_ringing(k);
             if (sounding || ringing) && f < nyquist && f >= MIN_MODE_HZ {
                 let (c, s) = phasor_coeffs(f, tau, fs);
                 let mc = self.bank.mode(k);
@@ -683,6 +802,7 @@ impl Object {
         for j in self.n_high..old_high.max(self.n_high) {
             self.high[j].info.gain = 0.0;
         }
+        self.assign_long_modes();
         self.poles_dirty = false;
         self.pickups_dirty = true;
     }
@@ -821,38 +941,35 @@ impl Object {
         self.culled = 0;
         let mut last_active = 0;
         for k in 0..n.max(self.bank.active()).min(self.info.len()) {
-            let info = &mut self.info[k];
             let sounding = k < n && self.amp[k] != 0.0;
+            let info = self.info[k];
             let culled = sounding && info.gain * info.gain * info.decay_s < cull_below;
             self.culled += culled as usize;
-            info.gain *= norm;
+            let g = if sounding { info.gain * norm } else { 0.0 };
+            self.info[k].gain = g;
             if sounding && !culled {
-                self.bank.set_gains(k, info.gain as f32, info.side as f32);
+                self.set_slot_gains(k, g, info.side);
                 last_active = k + 1;
             } else {
                 // Dropped, beyond the count or culled: no input; a mode still ringing keeps
                 // its pole (set in `update_poles`) and rings out at its own rate.
-                let d = self.bank.mode(k).d;
-                self.bank.set_gains(k, 0.0, d);
-                if !sounding {
-                    info.gain = 0.0;
-                }
-                if self.bank.energy(k) > 0.0 || (sounding && culled) {
+                self.set_slot_gains(k, 0.0, info.side);
+                if self.slot_ringing(k) || (sounding && culled) {
                     last_active = k + 1;
                 }
             }
         }
         let mut tail = self.n_high;
-        for (j, g) in self.high.iter_mut().enumerate() {
+        for j in 0..HIGH_SLOTS_MAX {
             let slot = HIGH_BASE + j;
             if j < self.n_high {
-                g.info.gain *= norm;
-                self.bank
-                    .set_gains(slot, g.info.gain as f32, g.info.side as f32);
+                self.high[j].info.gain *= norm;
+                let info = self.high[j].info;
+                self.set_slot_gains(slot, info.gain, info.side);
             } else {
-                let d = self.bank.mode(slot).d;
-                self.bank.set_gains(slot, 0.0, d);
-                if self.bank.energy(slot) > 0.0 {
+                let d = self.high[j].info.side;
+                self.set_slot_gains(slot, 0.0, d);
+                if self.slot_ringing(slot) {
                     tail = j + 1;
                 }
             }
@@ -896,12 +1013,15 @@ impl Object {
     /// the mid).
     pub fn process_chunk(&mut self, force: &[f32], out: &mut [f32]) {
         self.advance_controls(force.len());
-        if self.bank.is_silent() && force.iter().all(|&x| x == 0.0) {
+        if self.is_silent() && force.iter().all(|&x| x == 0.0) {
             // Rung out and no input: the output is exactly zero; no mode is touched.
             out.iter_mut().for_each(|y| *y = 0.0);
             return;
         }
         self.bank.process(force, out);
+        if self.long.used() > 0 {
+            self.long.process_add(force, out, None);
+        }
         self.after_chunk();
     }
 
@@ -910,7 +1030,7 @@ impl Object {
     /// writes). At width 0 the side is zero and costs nothing.
     pub fn process_chunk_stereo(&mut self, force: &[f32], mid: &mut [f32], side: &mut [f32]) {
         self.advance_controls(force.len());
-        if self.bank.is_silent() && force.iter().all(|&x| x == 0.0) {
+        if self.is_silent() && force.iter().all(|&x| x == 0.0) {
             mid.iter_mut().for_each(|y| *y = 0.0);
             side.iter_mut().for_each(|y| *y = 0.0);
             return;
@@ -918,20 +1038,28 @@ impl Object {
         if self.width.value() == 0.0 && !self.width.is_moving() {
             self.bank.process(force, mid);
             side.iter_mut().for_each(|y| *y = 0.0);
+            if self.long.used() > 0 {
+                self.long.process_add(force, mid, None);
+            }
         } else {
             self.bank.process_stereo(force, mid, side);
+            if self.long.used() > 0 {
+                self.long.process_add(force, mid, Some(side));
+            }
         }
         self.after_chunk();
     }
 
     fn after_chunk(&mut self) {
         self.bank.flush();
+        self.long_ringing = self.long.flush();
         // Shrink the processed ranges once ringing-out modes have decayed.
         let active = self.bank.active();
         if active > 0 && self.bank.mode(active - 1).g == 0.0 {
             let mut last = 0;
             for k in 0..active {
-                if self.bank.mode(k).g != 0.0 || self.bank.energy(k) > 0.0 {
+                if self.bank.mode(k).g != 0.0 || self.slot_ringing(k) || self.long_of[k] != NOT_LONG
+                {
                     last = k + 1;
                 }
             }
@@ -941,7 +1069,7 @@ impl Object {
         if len > self.n_high.div_ceil(LANES) * LANES {
             let mut last = self.n_high;
             for k in start..start + len {
-                if self.bank.energy(k) > 0.0 {
+                if self.slot_ringing(k) {
                     last = last.max(k - start + 1);
                 }
             }
