@@ -17,6 +17,7 @@
 //! trundle bench [--json] [--quick]    what the engine costs on this machine
 //! trundle fit-object KNOCK.wav -o wood.object.json [--json]   an object from a recorded strike
 //! trundle fit-roll ROLL.wav [--object F | --is-force] -o roll.json [--json]   a preset from a roll
+//! trundle spectrum A.wav [B.wav…] [--labels a,b] [--plot out.png] [--json]   third-octave spectra
 //! ```
 //!
 //! The command drives the very same engine as the plugin ([`trundle_dsp::Voice`]) with
@@ -38,6 +39,8 @@ mod output;
 mod physics_cmd;
 mod render;
 mod soak;
+mod spectrum;
+mod spectrum_plot;
 mod stats;
 mod tradeoff;
 
@@ -88,6 +91,8 @@ enum Command {
     FitObject(fit_cmd::FitObjectArgs),
     /// Fit a preset (roughness, size, velocity, action) to a recorded roll, rub or scratch.
     FitRoll(fit_roll::FitRollArgs),
+    /// Third-octave spectra of recordings side by side (table, JSON or a PNG plot).
+    Spectrum(spectrum::SpectrumArgs),
 }
 
 /// Print to stdout; a closed pipe (`trundle params | head`) ends quietly, not in a panic.
@@ -121,6 +126,7 @@ fn main() -> ExitCode {
         Command::Bench(args) => bench::run(args).and_then(|t| emit(&t)),
         Command::FitObject(args) => fit_cmd::run(args).and_then(|t| emit(&t)),
         Command::FitRoll(args) => fit_roll::run(args).and_then(|t| emit(&t)),
+        Command::Spectrum(args) => spectrum::run(args).and_then(|t| emit(&t)),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

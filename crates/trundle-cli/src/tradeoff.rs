@@ -268,7 +268,7 @@ fn table(rows: &[Value], seconds: f64) -> String {
 
 /// The font of the plot's text, embedded so the plot needs no system fonts (Hack, MIT /
 /// Bitstream Vera licence, `assets/Hack-Regular-LICENSE.txt`).
-const FONT: &[u8] = include_bytes!("../assets/Hack-Regular.ttf");
+pub(crate) const FONT: &[u8] = include_bytes!("../assets/Hack-Regular.ttf");
 
 /// A plotted point: (setting, is physics, ns/sample, series distance, spectral distance).
 type Point = (String, bool, f64, f64, f64);
