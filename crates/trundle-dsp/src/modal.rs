@@ -625,7 +625,7 @@ mod x86 {
     use super::{Acc, Modes, BLOCK, LANES};
     use std::arch::x86_64::*;
 
-    /// Groups interleaved by the AVX2 kernel (4 × 8 = 32 modes in flight).
+    /// Most groups interleaved by the AVX2 kernel (4 × 8 = 32 modes in flight).
     const G_AVX: usize = 4;
     /// Groups interleaved by the SSE2 kernel (2 × 8 = 16 modes in flight).
     const G_SSE: usize = 2;
@@ -640,15 +640,19 @@ mod x86 {
         let groups = m.c.len() / LANES;
         let mut k = 0;
         while k < groups {
-            let step = if groups - k >= G_AVX { G_AVX } else { 1 };
+            // As many groups in flight as remain, up to G_AVX: a short range (the object's
+            // high band is three groups) still hides the recursion's latency. The order in
+            // which groups add into the accumulator is the same whatever the grouping.
+            let step = (groups - k).min(G_AVX);
             // SAFETY: the CPU has AVX2 and FMA (asserted above, `is_x86_feature_detected!`),
             // which is the only requirement of these `target_feature` functions beyond the
             // bounds they check themselves.
             unsafe {
-                if step == G_AVX {
-                    avx2_groups::<G_AVX, ST>(m, k * LANES, x, acc, side);
-                } else {
-                    avx2_groups::<1, ST>(m, k * LANES, x, acc, side);
+                match step {
+                    4 => avx2_groups::<4, ST>(m, k * LANES, x, acc, side),
+                    3 => avx2_groups::<3, ST>(m, k * LANES, x, acc, side),
+                    2 => avx2_groups::<2, ST>(m, k * LANES, x, acc, side),
+                    _ => avx2_groups::<1, ST>(m, k * LANES, x, acc, side),
                 }
             }
             k += step;
