@@ -55,7 +55,7 @@ use core::f64::consts::TAU;
 use realfft::num_complex::Complex64 as C;
 use trundle_dsp::disk::anchor;
 use trundle_dsp::material::{Material, DECAY_MAX_S, DECAY_MIN_S, GLASS, METAL, WOOD};
-use trundle_dsp::modal::{phasor_coeffs, LongBank, ModalBank, ModeCoeffs, LONG_MODE_SAMPLES};
+use trundle_dsp::modal::{phasor_coeffs, LongBank, ModalBank, ModeCoeffs};
 use trundle_dsp::object::{first_mode_hz, ModeInfo, Object, ObjectControls};
 use trundle_dsp::shape::{Shape, ShapeTables};
 use trundle_dsp::CHUNK;
@@ -737,7 +737,7 @@ fn long_decays_stay_within_the_f32_pole_rounding_bound() {
 /// The engine promises decays up to 60 s at 8–384 kHz (docs/MODEL.md §6, `material::DECAY_MAX_S`).
 /// In the f32 bank a set 60 s decay comes out at 27–59 s (pole rounding, and above
 /// τ·f_s ≈ 2²³ the state's own rounding); the object therefore runs every mode with
-/// τ·f_s > [`LONG_MODE_SAMPLES`] in f64 ([`LongBank`]). Measured on the object's rendered
+/// τ·f_s > `modal::LONG_MODE_SAMPLES` in f64 (`LongBank`). Measured on the object's rendered
 /// impulse response (a metal string with decay ×30: its low modes ring the full 60 s), and on
 /// single f64 modes at 20 Hz, 1 kHz, 6.5 kHz and f_s/2 − 20 Hz: within 2 % of 60 s at
 /// 44.1–384 kHz.
