@@ -11,8 +11,8 @@
 //! | control | physics | law | at the default |
 //! |---|---|---|---|
 //! | size S ∈ [0.1, 1] | ball radius R | R = 2.5 cm · S ([`RADIUS_PER_SIZE_M`]) | S 0.4 → R = 1 cm (TASLP §III-B) |
-//! | size S | ball mass m_e | steel sphere, m_e = 7850 kg/m³ · 4/3·π·R³ | 32.9 g |
-//! | size S | stiffness κ = k/m_e | Hertz: k ∝ √R, m_e ∝ R³ ⇒ κ = 5·10⁹ · (R / 1 cm)^−5/2 | 5·10⁹ (κ₂ of TASLP §III-E) |
+//! | size S, ball material | ball mass m_e | m_e = ρ_b · 4/3·π·R³ ([`crate::contact`]) | steel: 32.9 g |
+//! | size S, ball and object materials | stiffness κ = k/m_e | Hertz: k = 4/3·E*·√R ⇒ κ = E*/(π·ρ_b·R^{5/2}) ([`crate::contact::kappa`]) | 5·10⁹ (κ₂ of TASLP §III-E) for E* = 1.23 GPa; steel on the default (wooden) object: 3.7·10⁹ |
 //! | velocity V ∈ [0, 1] | rolling speed v | v = 0.4 m/s · V ([`SPEED_PER_VELOCITY_M_S`]) | V 0.5 → 20 cm/s (TASLP §III-B) |
 //! | roughness ρ ∈ [0, 1] | fractal exponent β | β = −1.5 + 1.5·ρ (TASLP §V-C: β ∈ [−1.5, 0]) | −0.75 |
 //! | roughness ρ | relief (peak-to-valley) | 5 µm · 4^ρ: 5 … 20 µm | 10 µm |
@@ -23,7 +23,9 @@
 //! - **Radius and κ.** Hertz contact stiffness grows as √R while the mass grows as R³, so
 //!   κ ∝ R^−5/2 and the contact duration, ∝ κ^−2/5 (Johnson §11), grows **linearly** with R —
 //!   exactly as the signal model's t₀ = 7.88·10⁻⁴·S·A^−0.29 s grows with S (TASLP eq 16).
-//!   Anchored at the paper's reference ball (R = 1 cm, κ₂ = 5·10⁹).
+//!   The materials set E* and ρ_b as in the signal model's contact scale
+//!   ([`crate::contact`]); the paper's reference ball (R = 1 cm, κ₂ = 5·10⁹) is a steel ball
+//!   with E* = 1.23 GPa.
 //! - **Relief.** docs/MODEL.md §7: with the paper's 0.1 µm relief the ball never leaves the surface.
 //!   5–20 µm is the range where every β gives separate micro-impacts with mean intervals in
 //!   Table I's range and impact speeds near Fig. 7's (the sweep in
@@ -144,6 +146,10 @@ pub struct PhysicsControls {
     pub asymmetry_law: AsymmetryLaw,
     /// Surface seed.
     pub seed: u64,
+    /// What the ball is made of.
+    pub ball: crate::contact::BallMaterial,
+    /// The object's contact compliance (1 − ν²)/E (1/Pa), [`crate::contact`].
+    pub object_compliance_per_pa: f64,
 }
 
 impl PhysicsControls {
@@ -156,6 +162,11 @@ impl PhysicsControls {
             asymmetry: p.get(ParamId::Asymmetry),
             asymmetry_law: p.asymmetry_law(),
             seed: p.seed(),
+            ball: p.ball_material(),
+            object_compliance_per_pa: crate::contact::object_compliance_per_pa(
+                p.get(ParamId::MaterialX),
+                p.get(ParamId::MaterialY),
+            ),
         }
     }
 
@@ -176,11 +187,13 @@ impl PhysicsControls {
         } else {
             0.0
         };
+        let solid = self.ball.solid();
+        let e_star = crate::contact::effective_modulus_pa(&solid, self.object_compliance_per_pa);
         PhysicsSettings {
             sample_rate_hz,
             oversample,
-            mass_kg: mass_kg(r),
-            kappa: kappa(r),
+            mass_kg: solid.density_kg_m3 * 4.0 / 3.0 * core::f64::consts::PI * r.powi(3),
+            kappa: crate::contact::kappa(e_star, solid.density_kg_m3, r),
             radius_m: r,
             speed_m_s: v,
             beta: beta(self.roughness),
@@ -207,7 +220,20 @@ mod tests {
         let d = PhysicsSettings::default();
         assert!((s.radius_m - d.radius_m).abs() < 1e-12);
         assert!((s.speed_m_s - d.speed_m_s).abs() < 1e-12);
-        assert!((s.kappa / d.kappa - 1.0).abs() < 1e-12);
+        // κ from the default steel ball on the default (mostly wooden) object; the paper's
+        // κ₂ = 5·10⁹ is the same ball with E* = 1.23 GPa (`contact` tests).
+        let b = crate::contact::STEEL;
+        let e = crate::contact::effective_modulus_pa(
+            &b,
+            crate::contact::object_compliance_per_pa(0.8, 0.0),
+        );
+        assert!((s.kappa / crate::contact::kappa(e, b.density_kg_m3, 0.01) - 1.0).abs() < 1e-12);
+        assert!(
+            (s.kappa / d.kappa).ln().abs() < 0.5,
+            "{} vs {}",
+            s.kappa,
+            d.kappa
+        );
         assert!((s.mass_kg / d.mass_kg - 1.0).abs() < 0.01);
         assert!((s.relief_m - d.relief_m).abs() < 1e-12);
         // Asymmetry 0.3 at ω = 20 rad/s: e = 0.3·9.81/400 = 7.4 mm.

@@ -22,6 +22,7 @@
 //! |---|---|---|
 //! | [`series`] | impact amplitudes Aⁿ and intervals Δⁿ_T, ARMA(1,1) from one Gaussian draw, Table I | TASLP §IV-B, §IV-E, §V-C, Table I |
 //! | [`pulse`] | raised-cosine impact pattern with sharpness ξ, t₀ = 7.88·10⁻⁴·S·A^−0.29 s | TASLP eq 9, 12, 16; CMMR eq 3 |
+//! | [`contact`] | the ball's and the object's materials: Hertz contact scale on t₀, the low-pass and the physics κ | Johnson §11.4; TASLP §III-E |
 //! | [`modulation`] | amplitude modulation 1 + m·sin(2πν_m t), ν_m = 3V/S | TASLP eq 7, 8, 17 |
 //! | [`lowpass`] | velocity low-pass and loudness law | CMJ "Navigation strategy", CMMR §3.4 |
 //! | [`source`] | the whole action chain: series → pulses → AM → low-pass | TASLP Fig. 5 |
@@ -111,6 +112,7 @@
 pub mod action;
 pub mod analysis;
 pub mod balls;
+pub mod contact;
 pub mod dcblock;
 pub mod disk;
 pub mod engine;

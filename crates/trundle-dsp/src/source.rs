@@ -50,6 +50,10 @@ pub struct SourceControls {
     pub action_y: f64,
     /// How the AM depth follows the ball speed.
     pub asymmetry_law: AsymmetryLaw,
+    /// The contact scale c ([`crate::contact`]): the pulses last c times the papers' t₀,
+    /// keep their area (height × 1/c) and the velocity low-pass's cutoff moves to f_c/c.
+    /// 1 = the papers' contact.
+    pub contact_scale: f64,
 }
 
 impl Default for SourceControls {
@@ -63,6 +67,7 @@ impl Default for SourceControls {
             action_x: ROLL_X,
             action_y: ROLL_Y,
             asymmetry_law: AsymmetryLaw::Constant,
+            contact_scale: 1.0,
         }
     }
 }
@@ -78,6 +83,87 @@ pub const ACTION_UPDATE_S: f64 = 0.004;
 
 /// Capacity of the impact report ring (records); older unread records are dropped.
 pub const IMPACT_LOG_CAPACITY: usize = 1 << 15;
+
+/// A ring of [`ImpactRecord`]s an engine reports its impacts into, drained by the caller
+/// (the CLI's `--impacts`, tests); the oldest unread records are dropped when it is full.
+///
+/// # Allocation
+/// `new` allocates [`IMPACT_LOG_CAPACITY`] records; nothing else allocates.
+#[derive(Clone, Debug)]
+pub struct ImpactLog {
+    ring: Vec<ImpactRecord>,
+    head: usize,
+    len: usize,
+    dropped: u64,
+    enabled: bool,
+}
+
+impl Default for ImpactLog {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl ImpactLog {
+    /// An empty, disabled log.
+    pub fn new() -> Self {
+        Self {
+            ring: vec![
+                ImpactRecord {
+                    time_s: 0.0,
+                    amplitude: 0.0,
+                    duration_s: 0.0
+                };
+                IMPACT_LOG_CAPACITY
+            ],
+            head: 0,
+            len: 0,
+            dropped: 0,
+            enabled: false,
+        }
+    }
+
+    /// Record from now on (or stop).
+    pub fn set_enabled(&mut self, enabled: bool) {
+        self.enabled = enabled;
+    }
+
+    /// Whether records are kept.
+    pub fn enabled(&self) -> bool {
+        self.enabled
+    }
+
+    /// Forget every record (real-time safe).
+    pub fn clear(&mut self) {
+        self.head = 0;
+        self.len = 0;
+        self.dropped = 0;
+    }
+
+    /// Keep `r` (dropping the oldest record when full).
+    pub fn record(&mut self, r: ImpactRecord) {
+        let cap = self.ring.len();
+        self.ring[self.head] = r;
+        self.head = (self.head + 1) % cap;
+        if self.len == cap {
+            self.dropped += 1;
+        } else {
+            self.len += 1;
+        }
+    }
+
+    /// Hand every record (oldest first) to `f` and clear; returns how many were dropped
+    /// since the last drain.
+    pub fn drain(&mut self, mut f: impl FnMut(ImpactRecord)) -> u64 {
+        let cap = self.ring.len();
+        let start = (self.head + cap - self.len) % cap;
+        for i in 0..self.len {
+            f(self.ring[(start + i) % cap]);
+        }
+        self.len = 0;
+        core::mem::take(&mut self.dropped)
+    }
+}
 
 /// The force generator.
 ///
@@ -103,6 +189,8 @@ pub struct Source {
     sharpness: Smoother,
     action_x: Smoother,
     action_y: Smoother,
+    /// The contact scale c (see [`SourceControls::contact_scale`]).
+    contact: Smoother,
     asymmetry_law: AsymmetryLaw,
     /// (x, y, S, ρ) the action parameters were last computed for.
     action_at: [f64; 4],
@@ -110,11 +198,7 @@ pub struct Source {
     action_age: usize,
     /// The densities in force lag behind the controls (a rebuild is due).
     action_stale: bool,
-    log: Vec<ImpactRecord>,
-    log_head: usize,
-    log_len: usize,
-    log_dropped: u64,
-    log_enabled: bool,
+    log: ImpactLog,
 }
 
 impl Source {
@@ -152,22 +236,12 @@ impl Source {
             sharpness: Smoother::new(controls.sharpness),
             action_x: Smoother::new(controls.action_x),
             action_y: Smoother::new(controls.action_y),
+            contact: Smoother::new(controls.contact_scale),
             asymmetry_law: controls.asymmetry_law,
             action_at: [f64::NAN; 4],
             action_age: 0,
             action_stale: false,
-            log: vec![
-                ImpactRecord {
-                    time_s: 0.0,
-                    amplitude: 0.0,
-                    duration_s: 0.0
-                };
-                IMPACT_LOG_CAPACITY
-            ],
-            log_head: 0,
-            log_len: 0,
-            log_dropped: 0,
-            log_enabled: false,
+            log: ImpactLog::new(),
         };
         s.set_controls(controls);
         s.reset();
@@ -203,6 +277,7 @@ impl Source {
             &mut self.sharpness,
             &mut self.action_x,
             &mut self.action_y,
+            &mut self.contact,
         ] {
             s.snap_to_target();
         }
@@ -216,9 +291,7 @@ impl Source {
         self.pending = self.series.next_impact();
         self.next_center = self.pending.interval_s * self.fs;
         self.pending = self.series.next_impact();
-        self.log_head = 0;
-        self.log_len = 0;
-        self.log_dropped = 0;
+        self.log.clear();
     }
 
     /// Set the control targets (smoothed).
@@ -230,6 +303,9 @@ impl Source {
         self.sharpness.set_target(c.sharpness.clamp(0.5, 8.0));
         self.action_x.set_target(c.action_x.clamp(-1.0, 1.0));
         self.action_y.set_target(c.action_y.clamp(-1.0, 1.0));
+        if c.contact_scale.is_finite() {
+            self.contact.set_target(c.contact_scale.clamp(0.05, 5.0));
+        }
         self.asymmetry_law = c.asymmetry_law;
     }
 
@@ -287,8 +363,14 @@ impl Source {
         self.sharpness.snap_to_target();
         self.action_x.snap_to_target();
         self.action_y.snap_to_target();
+        self.contact.snap_to_target();
         self.update_action(true);
         self.shape.snap_sharpness(self.sharpness.value());
+    }
+
+    /// The contact scale c in force (smoothed).
+    pub fn contact_scale(&self) -> f64 {
+        self.contact.value()
     }
 
     /// Choose how pulses are evaluated (speed/accuracy knob).
@@ -298,30 +380,13 @@ impl Source {
 
     /// Record impacts for [`drain_impacts`](Self::drain_impacts) (off by default).
     pub fn set_impact_log(&mut self, enabled: bool) {
-        self.log_enabled = enabled;
+        self.log.set_enabled(enabled);
     }
 
     /// Hand every recorded impact (oldest first) to `f` and clear the record. Returns the
     /// number of records dropped because the ring was full since the last drain.
-    pub fn drain_impacts(&mut self, mut f: impl FnMut(ImpactRecord)) -> u64 {
-        let cap = self.log.len();
-        let start = (self.log_head + cap - self.log_len) % cap;
-        for i in 0..self.log_len {
-            f(self.log[(start + i) % cap]);
-        }
-        self.log_len = 0;
-        core::mem::take(&mut self.log_dropped)
-    }
-
-    fn record(&mut self, r: ImpactRecord) {
-        let cap = self.log.len();
-        self.log[self.log_head] = r;
-        self.log_head = (self.log_head + 1) % cap;
-        if self.log_len == cap {
-            self.log_dropped += 1;
-        } else {
-            self.log_len += 1;
-        }
+    pub fn drain_impacts(&mut self, f: impl FnMut(ImpactRecord)) -> u64 {
+        self.log.drain(f)
     }
 
     /// True when a chunk would change nothing but time: the ball at rest, the low-pass
@@ -339,6 +404,7 @@ impl Source {
                 &self.sharpness,
                 &self.action_x,
                 &self.action_y,
+                &self.contact,
             ]
             .iter()
             .any(|s| s.is_moving())
@@ -380,6 +446,7 @@ impl Source {
         let (_, xi) = self.sharpness.advance(n, fs);
         self.action_x.advance(n, fs);
         self.action_y.advance(n, fs);
+        let (c0, c1) = self.contact.advance(n, fs);
         self.update_action(false);
         self.shape.set_sharpness(xi);
 
@@ -389,15 +456,15 @@ impl Source {
             let lead = 0.5 * T0_MAX_S * fs;
             while self.next_center - lead < n as f64 {
                 let step = self.pending;
-                let t0 = duration_s(ap.zeta_s, ap.theta, step.amplitude.abs());
+                let t0 = duration_s(ap.zeta_s * c1, ap.theta, step.amplitude.abs());
                 self.train.add(
                     &self.shape,
                     self.next_center,
                     t0 * fs,
                     (step.amplitude * ap.pulse_gain * ap.level_gain) as f32,
                 );
-                if self.log_enabled {
-                    self.record(ImpactRecord {
+                if self.log.enabled() {
+                    self.log.record(ImpactRecord {
                         time_s: (self.origin + self.next_center) / fs,
                         amplitude: step.amplitude,
                         duration_s: t0,
@@ -422,8 +489,9 @@ impl Source {
             return;
         }
 
-        // Loudness L(V), interpolated per sample.
-        let (l0, l1) = (loudness(v0) as f32, loudness(v1) as f32);
+        // Loudness L(V), interpolated per sample, and the contact's 1/c (the pulse keeps its
+        // area: a shorter contact is taller).
+        let (l0, l1) = ((loudness(v0) / c0) as f32, (loudness(v1) / c1) as f32);
         if l0 == l1 {
             if l1 != 1.0 {
                 out.iter_mut().for_each(|x| *x *= l1);
@@ -447,7 +515,7 @@ impl Source {
             (rate_hz(v0, s0) / fs, rate_hz(v1, s1) / fs),
         );
         // Velocity low-pass.
-        self.lp.set_cutoff(cutoff_hz(v1), fs);
+        self.lp.set_cutoff(cutoff_hz(v1) / c1, fs);
         self.lp.process(out);
 
         self.next_center -= n as f64;

@@ -13,7 +13,8 @@
 //! physics controls' smoothing and the crossfade on a change of engine are
 //! [`crate::engine_mix::EngineMix`]'s. With `engine = signal` the output is exactly
 //! (bit for bit) what it was before the physics engine existed. The impact log
-//! ([`Voice::drain_impacts`]) reports the signal engine's impacts only.
+//! ([`Voice::drain_impacts`]) reports the impacts of whichever engine runs (the physics
+//! ball's contacts, see [`crate::engine_mix`]).
 //!
 //! Lifecycle ([`crate`] docs): [`Voice::new`] allocates; [`Voice::set_sample_rate`] may
 //! allocate; [`Voice::reset`] and [`Voice::process`] never do. Blocks of any length are
@@ -48,6 +49,13 @@ pub struct Voice {
     space: Space,
     dc: DcBlock,
     object: Object,
+    /// The object's twins, played by the signal model's force and by the unscaled physics
+    /// force while the physics engine runs (the level match of [`EngineMix`]), and their DC
+    /// blockers.
+    twins: [Object; 2],
+    twin_dc: [DcBlock; 2],
+    twin_in: [f32; CHUNK],
+    twin_out: [[f32; CHUNK]; 2],
     gain: Smoother,
     /// 0 = object output, 1 = force output (crossfaded over the smoothing time).
     force_mix: Smoother,
@@ -83,6 +91,7 @@ fn source_controls(p: &Params) -> SourceControls {
         action_x: p.get(ParamId::ActionX),
         action_y: p.get(ParamId::ActionY),
         asymmetry_law: p.asymmetry_law(),
+        contact_scale: p.contact_scale(),
     }
 }
 
@@ -126,6 +135,13 @@ impl Voice {
             space: Space::new(fs, space_controls(params)),
             dc: DcBlock::new(fs),
             object: Object::new(fs, object_controls(params)),
+            twins: [
+                Object::new(fs, object_controls(params)),
+                Object::new(fs, object_controls(params)),
+            ],
+            twin_dc: [DcBlock::new(fs), DcBlock::new(fs)],
+            twin_in: [0.0; CHUNK],
+            twin_out: [[0.0; CHUNK]; 2],
             gain: Smoother::new(params.gain_linear()),
             force_mix: Smoother::new(if params.force_only() { 1.0 } else { 0.0 }),
             seed,
@@ -142,6 +158,10 @@ impl Voice {
         };
         v.object.set_quality(params.quality());
         v.object.set_controls(object_controls(params));
+        for t in &mut v.twins {
+            t.set_quality(params.quality());
+            t.set_controls(object_controls(params));
+        }
         v.reset();
         v
     }
@@ -157,6 +177,9 @@ impl Voice {
     /// and what it adds (`trundle bench`, `tests/full_band.rs`). Real-time safe.
     pub fn set_high_band(&mut self, on: bool) {
         self.object.set_high_band(on);
+        for t in &mut self.twins {
+            t.set_high_band(on);
+        }
     }
 
     /// The physics engine (health report, settings in force), for inspection.
@@ -177,6 +200,10 @@ impl Voice {
         self.dc.set_sample_rate(self.fs);
         self.balls.set_sample_rate(self.fs);
         self.object.set_sample_rate(self.fs);
+        for (t, d) in self.twins.iter_mut().zip(&mut self.twin_dc) {
+            t.set_sample_rate(self.fs);
+            d.set_sample_rate(self.fs);
+        }
         self.engines.set_sample_rate(self.fs);
         self.reset();
     }
@@ -191,6 +218,10 @@ impl Voice {
         self.balls.reset(self.seed);
         self.ball_level.snap(1.0);
         self.object.reset();
+        for (t, d) in self.twins.iter_mut().zip(&mut self.twin_dc) {
+            t.reset();
+            d.reset();
+        }
         self.engines.reset();
         self.gain.snap_to_target();
         self.force_mix.snap_to_target();
@@ -213,6 +244,10 @@ impl Voice {
         self.space.set_controls(space_controls(params));
         self.object.set_quality(params.quality());
         self.object.set_controls(object_controls(params));
+        for t in &mut self.twins {
+            t.set_quality(params.quality());
+            t.set_controls(object_controls(params));
+        }
         self.gain.set_target(params.gain_linear());
         self.force_mix
             .set_target(if params.force_only() { 1.0 } else { 0.0 });
@@ -228,12 +263,13 @@ impl Voice {
     /// Record impacts for [`drain_impacts`](Self::drain_impacts).
     pub fn set_impact_log(&mut self, enabled: bool) {
         self.source.set_impact_log(enabled);
+        self.engines.set_impact_log(enabled);
     }
 
     /// Hand the impacts generated since the last call to `f` (oldest first); returns how
     /// many were dropped because the record was full (drain at least every ~30 000 impacts).
-    pub fn drain_impacts(&mut self, f: impl FnMut(ImpactRecord)) -> u64 {
-        self.source.drain_impacts(f)
+    pub fn drain_impacts(&mut self, mut f: impl FnMut(ImpactRecord)) -> u64 {
+        self.source.drain_impacts(&mut f) + self.engines.drain_impacts(f)
     }
 
     /// Start an extra ball for `note` with note velocity `velocity` (0…1): pitch sets its
@@ -333,6 +369,9 @@ impl Voice {
             self.source.snap_controls();
             self.space.snap_controls();
             self.object.snap_controls();
+            for t in &mut self.twins {
+                t.snap_controls();
+            }
             self.gain.snap_to_target();
             self.force_mix.snap_to_target();
             self.engines.snap();
@@ -357,6 +396,7 @@ impl Voice {
             // samples and the same state as the full path (`force` and `coupled` are still
             // all zero from the last chunk: that is what `quiet` records).
             self.source.skip_chunk(CHUNK);
+            self.engines.skip_chunk();
             self.sound.fill(0.0);
             self.side.fill(0.0);
             return;
@@ -407,6 +447,16 @@ impl Voice {
         self.object.set_ball(self.space.ball());
         self.object
             .process_chunk_stereo(&self.coupled, &mut self.sound, &mut self.side);
+        if let Some((reference, physics)) = self.engines.level_forces() {
+            // The level match (`engine_mix`): both engines' forces through the twins.
+            for (i, f) in [reference, physics].into_iter().enumerate() {
+                self.twin_dc[i].process(f, &mut self.twin_in);
+                self.twins[i].set_ball(self.space.ball());
+                self.twins[i].process_chunk(&self.twin_in, &mut self.twin_out[i]);
+            }
+            self.engines
+                .observe_level(&self.twin_out[0], &self.twin_out[1]);
+        }
         let (g0, g1) = self.gain.advance(CHUNK, fs);
         let (x0, x1) = self.force_mix.advance(CHUNK, fs);
         let inv = 1.0 / CHUNK as f32;

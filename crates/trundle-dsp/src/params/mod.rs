@@ -91,6 +91,8 @@ pub enum ParamId {
     Width,
     /// The output safety limiter (on by default).
     Limiter,
+    /// What the ball is made of (with the object's material: the contact, [`crate::contact`]).
+    BallMaterial,
 }
 
 /// A parameter whose value is one of a few named variants (shape, output, engine…).
@@ -412,6 +414,19 @@ impl Params {
     /// Which engine makes the force.
     pub fn engine(&self) -> crate::engine::Engine {
         self.variant()
+    }
+    /// What the ball is made of.
+    pub fn ball_material(&self) -> crate::contact::BallMaterial {
+        self.variant()
+    }
+    /// The contact scale c of the ball on the object ([`crate::contact`]): the factor on
+    /// the papers' pulse duration (1 for their contact).
+    pub fn contact_scale(&self) -> f64 {
+        crate::contact::contact_scale_for(
+            self.ball_material(),
+            self.get(ParamId::MaterialX),
+            self.get(ParamId::MaterialY),
+        )
     }
     /// Whether the output safety limiter acts.
     pub fn limiting(&self) -> crate::limiter::Limiting {

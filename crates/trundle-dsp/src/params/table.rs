@@ -18,7 +18,7 @@ const PERCENT: ParamKind = ParamKind::Float {
 };
 
 /// Number of parameters.
-pub const PARAM_COUNT: usize = 27;
+pub const PARAM_COUNT: usize = 28;
 
 /// The parameter table, indexed by [`ParamId`].
 pub const PARAMS: [ParamSpec; PARAM_COUNT] = [
@@ -317,5 +317,16 @@ pub const PARAMS: [ParamSpec; PARAM_COUNT] = [
         default: 1.0,
         kind: ParamKind::Enum(<crate::limiter::Limiting as ParamEnum>::NAMES),
         doc: "Output safety limiter: look-ahead 1.5 ms, stereo-linked, ceiling -1 dBFS, acting only on peaks (on by default); off = the engine's level as is",
+    },
+    ParamSpec {
+        id: ParamId::BallMaterial,
+        key: "ball_material",
+        name: "Ball material",
+        unit: "",
+        min: 0.0,
+        max: 4.0,
+        default: 0.0,
+        kind: ParamKind::Enum(<crate::contact::BallMaterial as ParamEnum>::NAMES),
+        doc: "What the ball is made of; with the object's material it sets the Hertz contact (docs/MODEL.md §2): a hard ball on a hard object makes short, bright impacts (steel on metal: pulses 0.17x the papers'), rubber long, dull ones (2.1x); the physics engine's stiffness and mass follow the same materials",
     },
 ];
