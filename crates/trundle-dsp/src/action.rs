@@ -592,6 +592,57 @@ pub struct ActionStep {
     pub raw_interval_s: f64,
 }
 
+/// Draws of the private generator behind a blend's loudness compensation.
+pub const LEVEL_DRAWS: usize = 1500;
+
+/// The AC power (up to a constant) of the pulse train `p` makes, estimated from
+/// [`LEVEL_DRAWS`] impacts of a private generator (fixed seed) whose innovations come from
+/// `draw(u, w)` (u = Φ(w), w standard normal, as [`ActionSeries`] draws them): by Campbell,
+/// Σ(g·A)²·E_p(t₀) / ΣΔ − (Σ g·A·area(t₀) / ΣΔ)², with the rolling floor, the ARMA filters,
+/// the pulse law and its widening of narrow pulses applied as the series and the pulse
+/// train apply them.
+fn draws_power(
+    p: &ActionParams,
+    sample_rate_hz: f64,
+    mut draw: impl FnMut(f64, f64) -> (f64, f64),
+) -> f64 {
+    let mut rng = SmallRng::seed_from_u64(0x5EED_1E7E);
+    let (aa, ba) = p.filter_a;
+    let (ad, bd) = p.filter_dt;
+    let (mut ca, mut cd, mut pa, mut pd) = (0.0, 0.0, 0.0, 0.0);
+    let floor = p.floor_weight();
+    let min_width = 2.0 / sample_rate_hz.max(1.0);
+    let (mut energy, mut area, mut time) = (0.0, 0.0, 0.0);
+    for k in 0..LEVEL_DRAWS + 64 {
+        let wn: f64 = StandardNormal.sample(&mut rng);
+        let (xa, xd) = draw(normal_cdf(wn), wn);
+        ca = -aa * ca + xa + ba * pa;
+        cd = -ad * cd + xd + bd * pd;
+        (pa, pd) = (xa, xd);
+        if k < 64 {
+            continue; // the filters forget their zero start
+        }
+        let raw = p.mean_a + ca;
+        let a = if raw >= A_MIN || floor <= 0.0 {
+            raw
+        } else {
+            raw + floor.min(1.0) * (A_MIN - raw)
+        };
+        let dt = (p.mean_dt_s + cd).max(p.min_interval_s);
+        let z = crate::pulse::duration_s(p.zeta_s, p.theta, a.abs());
+        let h = a * p.pulse_gain;
+        // A raised cosine of width z and height h: area h·z/2, energy 3/8·h²·z (a narrow
+        // pulse is widened to two samples keeping its area).
+        let zw = z.max(min_width);
+        let hw = h * z / zw;
+        energy += 0.375 * hw * hw * zw;
+        area += 0.5 * h * z;
+        time += dt;
+    }
+    let t = time.max(1e-12);
+    (energy / t - (area / t) * (area / t)).max(0.0)
+}
+
 /// The impact-series generator for any point of the action disk (CMJ Fig. 7).
 ///
 /// At a pure prototype (one weight 1) it samples the density exactly (no table); at the roll
@@ -602,6 +653,14 @@ pub struct ActionStep {
 #[derive(Clone, Debug)]
 pub struct ActionSeries {
     params: ActionParams,
+    /// The anchors' power estimates (rub, scratch, roll) and the (size, roughness, f_s,
+    /// min interval) they were made for.
+    anchor_power: [f64; 3],
+    anchor_key: [f64; 3],
+    anchor_size: f64,
+    anchor_roughness: f64,
+    anchor_fs: f64,
+    last_level_gain: f64,
     table_a: QuantileTable,
     table_dt: QuantileTable,
     pure_a: Option<Density>,
@@ -620,6 +679,12 @@ impl ActionSeries {
     pub fn new(params: ActionParams, seed: u64) -> Self {
         let mut s = Self {
             params,
+            anchor_power: [0.0; 3],
+            anchor_key: [f64::NAN; 3],
+            anchor_size: 0.4,
+            anchor_roughness: 0.5,
+            anchor_fs: 48_000.0,
+            last_level_gain: 1.0,
             table_a: QuantileTable::new(),
             table_dt: QuantileTable::new(),
             pure_a: None,
@@ -684,6 +749,81 @@ impl ActionSeries {
         }
         if built || self.rebuilds == 0 {
             self.rebuilds += 1;
+        }
+        if built {
+            self.level_from_draws();
+        } else if self.params.weights.iter().all(|&w| w < 1.0) {
+            // Scalars moved, densities kept: keep the level measured with them.
+            self.params.level_gain = self.last_level_gain;
+        }
+    }
+
+    /// The loudness compensation of a blend from the process it really makes (module docs,
+    /// "Loudness of a blend"): the AC power of its pulse train estimated from
+    /// [`LEVEL_DRAWS`] draws of a private generator (fixed seed, so the estimate is a
+    /// smooth, deterministic function of the parameters), against the anchors' powers
+    /// estimated the same way; the gain brings the blend to the power interpolated in dB,
+    /// Σwᵢ·ln Pᵢ, capped at ±20 dB. Runs when the quantile tables are rebuilt (at most
+    /// every [`crate::source::ACTION_UPDATE_S`] while the cursor moves). Real-time safe.
+    fn level_from_draws(&mut self) {
+        let w = self.params.weights;
+        if w.iter().any(|&x| x >= 1.0) {
+            self.params.level_gain = 1.0;
+            self.last_level_gain = 1.0;
+            return;
+        }
+        let p = self.params;
+        let here = draws_power(&p, self.anchor_fs, |u, wn| {
+            (
+                match self.pure_a {
+                    Some(d) => d.sample(wn),
+                    None => self.table_a.lookup(u),
+                },
+                match self.pure_dt {
+                    Some(d) => d.sample(wn),
+                    None => self.table_dt.lookup(u),
+                },
+            )
+        });
+        let key = [self.anchor_size, self.anchor_roughness, self.anchor_fs];
+        if key != self.anchor_key {
+            let protos = [rub(key[0], key[2]), scratch(key[0]), roll(key[0], key[1])];
+            for i in 0..3 {
+                let mut one = [0.0; 3];
+                one[i] = 1.0;
+                let a = ActionParams::blend(one, &protos, key[2]);
+                let (da, dd) = (
+                    a.amplitude.single().expect("pure"),
+                    a.interval_s.single().expect("pure"),
+                );
+                self.anchor_power[i] =
+                    draws_power(&a, key[2], |_, wn| (da.sample(wn), dd.sample(wn)));
+            }
+            self.anchor_key = key;
+        }
+        let mut target_ln = 0.0;
+        for i in 0..3 {
+            if w[i] > 0.0 {
+                target_ln += w[i] * self.anchor_power[i].max(1e-30).ln();
+            }
+        }
+        let gain = (0.5 * (target_ln - here.max(1e-30).ln()))
+            .exp()
+            .clamp(0.1, 10.0);
+        self.params.level_gain = gain;
+        self.last_level_gain = gain;
+    }
+
+    /// Tell the series the size, roughness and sample rate its parameters were made for
+    /// (the anchors of its loudness compensation).
+    pub fn set_anchor_controls(&mut self, size: f64, roughness: f64, sample_rate_hz: f64) {
+        let key = [size, roughness, sample_rate_hz];
+        if key != [self.anchor_size, self.anchor_roughness, self.anchor_fs] {
+            (self.anchor_size, self.anchor_roughness, self.anchor_fs) =
+                (size, roughness, sample_rate_hz);
+            if self.rebuilds > 0 {
+                self.level_from_draws();
+            }
         }
     }
 

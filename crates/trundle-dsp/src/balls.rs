@@ -13,8 +13,11 @@
 //!   smallest S = 0.1, linear in between and clamped outside ([`size_for_note`]);
 //! * **note velocity → ball speed**: V = velocity (0…1, as the host sends it), floored at
 //!   0.05 so a soft note still rolls;
-//! * **note off**: the ball stops (its speed glides to 0 over the controls' smoothing
-//!   time) and the object rings out; the slot is freed once its last pulse has ended;
+//! * **note off** (or a preset ball's `stop_s`): the ball **rolls to rest**, its speed
+//!   falling at [`STOP_DECELERATION_M_S2`] — a time that follows its speed (0.27 s from
+//!   V 0.5 to V 0.1, 0.6 s from full speed) — then settling softly below
+//!   [`STOP_SOFT_SPEED`]; its impacts soften as it slows, never a cut, and the object rings
+//!   out; the slot is freed once the ball is still and its last pulse has ended;
 //! * **position**: each ball starts at its own place on the object, a fixed scatter by
 //!   note number, and follows the scene's trajectory from there;
 //! * **seed**: the scene seed combined with the note number and how many notes came
@@ -42,6 +45,15 @@ use crate::CHUNK;
 
 /// Most extra balls a voice holds.
 pub const MAX_BALLS: usize = 16;
+
+/// How fast a ball told to stop slows down (m/s², in units of V per second): a braked roll
+/// — a hand, a felt, the ball's own rolling friction on a soft surface. (Free rolling
+/// friction on a hard table, μ_r·g ≈ 0.01·9.8 m/s², would take tens of seconds.)
+pub const STOP_DECELERATION_M_S2: f64 = 1.5;
+
+/// Below this speed (V) a stopping ball settles exponentially (time constant
+/// [`STOP_SOFT_SPEED`]/[`STOP_DECELERATION_M_S2`] = 67 ms) instead of linearly.
+pub const STOP_SOFT_SPEED: f64 = 0.1;
 
 /// How long (seconds) a stopped ball stays allocated after it came to rest, so its last
 /// pulses (at most [`crate::pulse::T0_MAX_S`]) play out.
@@ -201,7 +213,6 @@ impl BallPool {
         for b in &mut self.balls {
             if b.active && !b.stopping && b.note == note {
                 b.stopping = true;
-                b.velocity = 0.0;
             }
         }
     }
@@ -211,7 +222,6 @@ impl BallPool {
         for b in &mut self.balls {
             if b.active {
                 b.stopping = true;
-                b.velocity = 0.0;
             }
         }
     }
@@ -239,7 +249,18 @@ impl BallPool {
     /// following the scene's controls. Real-time safe; costs nothing with no ball.
     pub fn add_chunk(&mut self, force: &mut [f32], scene: SourceControls, space: SpaceControls) {
         let n = force.len().min(CHUNK);
+        let slow_by = STOP_DECELERATION_M_S2 * n as f64 / self.fs;
         for b in self.balls.iter_mut().filter(|b| b.active) {
+            if b.stopping {
+                // Rolling to rest (module docs): the speed falls linearly, then settles
+                // softly below STOP_SOFT_SPEED (the loudness √V would otherwise drop its last
+                // 13 dB in 30 ms).
+                let v = b.velocity;
+                b.velocity = (v - slow_by * (v / STOP_SOFT_SPEED).min(1.0)).max(0.0);
+                if b.velocity < 1e-4 {
+                    b.velocity = 0.0;
+                }
+            }
             let (sc, pc) = Self::controls(b, scene, space);
             b.source.set_controls(sc);
             b.space.set_controls(pc);
@@ -298,10 +319,22 @@ mod tests {
         }
         assert!(energy > 0.0);
         pool.note_off(60);
-        for _ in 0..200 {
+        // It rolls to rest: V 0.8 at 1.5 m/s² takes 0.53 s (plus the smoothing's tail and
+        // the release of its last pulses), then the slot is free.
+        let mut chunks = 0;
+        while pool.active() == 2 {
             f.fill(0.0);
             pool.add_chunk(&mut f, sc, pc);
+            chunks += 1;
+            assert!(chunks < 10_000, "never stopped");
         }
+        // Linear to V 0.1, then exponential (67 ms) down to 10⁻⁴: 9 time constants more.
+        let linear = (0.8 - STOP_SOFT_SPEED) / STOP_DECELERATION_M_S2;
+        let t = chunks as f64 * CHUNK as f64 / 48_000.0 - linear;
+        assert!(
+            (0.4..0.9).contains(&t),
+            "stopped {t} s after the linear part"
+        );
         assert_eq!(pool.active(), 1);
         // A full pool steals the oldest.
         for n in 0..(MAX_BALLS as u8 + 3) {

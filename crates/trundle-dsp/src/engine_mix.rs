@@ -276,6 +276,12 @@ impl EngineMix {
         }
     }
 
+    /// The physics engine is selected (whatever the crossfade): its impacts, not the signal
+    /// model's (which may run beside it as the level reference), are the ball's.
+    pub fn physics_selected(&self) -> bool {
+        self.mix_target == 1.0
+    }
+
     /// Only the signal model runs and no crossfade is under way.
     pub fn signal_only(&self) -> bool {
         self.mix == 0.0 && self.mix_target == 0.0

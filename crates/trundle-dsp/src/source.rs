@@ -346,6 +346,7 @@ impl Source {
             self.action_stale = false;
         }
         self.action_at = at;
+        self.series.set_anchor_controls(at[2], at[3], self.fs);
         self.series.set_params(next);
     }
 

@@ -269,7 +269,13 @@ impl Voice {
     /// Hand the impacts generated since the last call to `f` (oldest first); returns how
     /// many were dropped because the record was full (drain at least every ~30 000 impacts).
     pub fn drain_impacts(&mut self, mut f: impl FnMut(ImpactRecord)) -> u64 {
-        self.source.drain_impacts(&mut f) + self.engines.drain_impacts(f)
+        if self.engines.physics_selected() {
+            // The signal model runs beside the physics only as its level reference.
+            self.source.drain_impacts(|_| {});
+            self.engines.drain_impacts(f)
+        } else {
+            self.source.drain_impacts(&mut f) + self.engines.drain_impacts(|_| {})
+        }
     }
 
     /// Start an extra ball for `note` with note velocity `velocity` (0…1): pitch sets its
