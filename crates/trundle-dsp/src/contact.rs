@@ -223,9 +223,9 @@ mod tests {
         let glass = crate::disk::anchor(2);
         let c = |b: BallMaterial, (x, y): (f64, f64)| contact_scale_for(b, x, y);
         for (got, want) in [
-            (c(BallMaterial::Steel, metal), 0.17),
-            (c(BallMaterial::Steel, glass), 0.22),
-            (c(BallMaterial::Steel, wood), 0.89),
+            (c(BallMaterial::Steel, metal), 0.166),
+            (c(BallMaterial::Steel, glass), 0.219),
+            (c(BallMaterial::Steel, wood), 0.893),
             (c(BallMaterial::Glass, glass), 0.163),
             (c(BallMaterial::Hardwood, wood), 0.407),
             (c(BallMaterial::Rubber, wood), 2.14),
@@ -241,7 +241,7 @@ mod tests {
         let t2 = hertz_contact_time_s(m(&RUBBER), r, e2, 0.1);
         let ratio = contact_scale(&RUBBER, e2) / contact_scale(&STEEL, e1);
         assert!((t2 / t1 / ratio - 1.0).abs() < 1e-9);
-        // A 1 cm steel ball on steel at 0.1 m/s: about 60 µs.
-        assert!((40e-6..80e-6).contains(&t1), "{t1}");
+        // A 1 cm steel ball on steel at 0.1 m/s: about 110 µs.
+        assert!((90e-6..140e-6).contains(&t1), "{t1}");
     }
 }

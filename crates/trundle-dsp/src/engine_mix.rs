@@ -119,6 +119,8 @@ pub struct EngineMix {
     level: LevelMatch,
     /// The gain applied at the end of the last physics chunk.
     applied_gain: f64,
+    /// The level match runs (the default; off for measurements).
+    level_match: bool,
     /// Output samples since reset (the time base of the physics impacts).
     samples: u64,
     /// The contact under way: (start sample, peak sample, peak force / weight).
@@ -158,6 +160,7 @@ impl EngineMix {
             raw_physics: [0.0; CHUNK],
             level: LevelMatch::START,
             applied_gain: 1.0,
+            level_match: true,
             samples: 0,
             contact: None,
             log: ImpactLog::new(),
@@ -355,13 +358,24 @@ impl EngineMix {
     /// The signal model's force and the unscaled physics force of the last chunk, when the
     /// level match wants them played through the object's twins (the physics engine runs).
     pub fn level_forces(&self) -> Option<(&[f32; CHUNK], &[f32; CHUNK])> {
-        (self.running && self.mix_target == 1.0).then_some((&self.reference, &self.raw_physics))
+        (self.level_match && self.running && self.mix_target == 1.0)
+            .then_some((&self.reference, &self.raw_physics))
     }
 
     /// The twins' sounds of the last chunk from the signal model's force (`reference`) and
     /// from the unscaled physics force (`physics`): updates the level match's gain.
     pub fn observe_level(&mut self, reference: &[f32], physics: &[f32]) {
         self.level.update(reference, physics, self.fs);
+    }
+
+    /// Switch the level match off (the physics force keeps its fixed calibration,
+    /// [`PHYSICS_FORCE_SCALE`]) or on (the default): for measuring the crossfade and the
+    /// physics force itself. Real-time safe.
+    pub fn set_level_match(&mut self, on: bool) {
+        self.level_match = on;
+        if !on {
+            self.level.gain = 1.0;
+        }
     }
 
     /// The gain the level match applies to the physics force now (1 before it has run).

@@ -182,6 +182,13 @@ impl Voice {
         }
     }
 
+    /// Switch the physics engine's level match to the signal model on (the default) or off
+    /// ([`crate::engine_mix`]): for measuring the crossfade and the physics force itself.
+    /// Real-time safe.
+    pub fn set_engine_level_match(&mut self, on: bool) {
+        self.engines.set_level_match(on);
+    }
+
     /// The physics engine (health report, settings in force), for inspection.
     pub fn physics(&self) -> &PhysicsEngine {
         self.engines.physics()
