@@ -462,6 +462,23 @@ impl TrundleEditor {
         ) else {
             return;
         };
+        // The ball's material above the object's disk: with it, it sets the contact.
+        let strip = (1.5 * t.font_small + 22.0 * t.scale).min(0.3 * body.height());
+        let top = Rect::from_min_size(body.min, Vec2::new(body.width(), strip));
+        let body = Rect::from_min_max(Pos2::new(body.left(), body.top() + strip), body.max);
+        if let TableParam::Int(p) = self.params.get(ParamId::BallMaterial) {
+            let (label, control) = labelled(top.shrink2(Vec2::new(4.0 * t.scale, 0.0)), t);
+            widgets::caption(ui, label.center_top(), Align2::CENTER_TOP, "Ball", t);
+            widgets::selector(
+                ui,
+                control,
+                p,
+                setter,
+                false,
+                ParamId::BallMaterial.spec().doc,
+                t,
+            );
+        }
         xy_disk(
             ui,
             body,

@@ -82,7 +82,7 @@ pub struct TrundleEditor {
 }
 
 /// The table rows with a designed control (typed: a renamed or removed row fails to compile).
-const PLACED: [ParamId; 26] = [
+const PLACED: [ParamId; 27] = [
     ParamId::Size,
     ParamId::Velocity,
     ParamId::Roughness,
@@ -109,6 +109,7 @@ const PLACED: [ParamId; 26] = [
     ParamId::Trajectory,
     ParamId::Width,
     ParamId::Limiter,
+    ParamId::BallMaterial,
 ];
 
 /// Build the editor for the plugin.
