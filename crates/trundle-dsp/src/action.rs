@@ -801,12 +801,12 @@ impl ActionSeries {
             }
             self.anchor_key = key;
         }
-        let mut target_ln = 0.0;
-        for i in 0..3 {
-            if w[i] > 0.0 {
-                target_ln += w[i] * self.anchor_power[i].max(1e-30).ln();
-            }
-        }
+        let target_ln: f64 = w
+            .iter()
+            .zip(&self.anchor_power)
+            .filter(|(wi, _)| **wi > 0.0)
+            .map(|(wi, p)| wi * p.max(1e-30).ln())
+            .sum();
         let gain = (0.5 * (target_ln - here.max(1e-30).ln()))
             .exp()
             .clamp(0.1, 10.0);
