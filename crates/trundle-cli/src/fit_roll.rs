@@ -42,8 +42,9 @@ pub struct FitRollArgs {
     #[arg(long, conflicts_with = "object")]
     pub is_force: bool,
     /// Impacts are local maxima of the force estimate above this fraction of its peak
-    /// (default 0.01 with --is-force, as `analyze`; 0.1 for an estimate, whose residual
-    /// ringing would otherwise count as impacts).
+    /// (default 0.02 with --is-force: the velocity low-pass rings after a hard contact's
+    /// short pulse by up to 1.5 % of the pulse, which must not count as impacts; 0.1 for an
+    /// estimate, whose residual ringing would otherwise count as impacts).
     #[arg(long)]
     pub threshold: Option<f64>,
     /// For an estimated force: keep only the largest peak within ± this many ms (its
@@ -57,6 +58,9 @@ pub struct FitRollArgs {
     #[arg(long)]
     pub json: bool,
 }
+
+/// Default impact threshold of a force (`--is-force`), as a fraction of its peak.
+pub const FORCE_THRESHOLD: f64 = 0.02;
 
 /// Run `fit-roll`; returns the report.
 pub fn run(args: &FitRollArgs) -> Result<String, CliError> {
@@ -93,11 +97,9 @@ pub fn run(args: &FitRollArgs) -> Result<String, CliError> {
             "blind: linear-prediction residual (order 32)".to_string(),
         )
     };
-    let threshold = args.threshold.unwrap_or(if args.is_force {
-        DEFAULT_THRESHOLD
-    } else {
-        0.1
-    });
+    let threshold = args
+        .threshold
+        .unwrap_or(if args.is_force { FORCE_THRESHOLD } else { 0.1 });
     if !(threshold.is_finite() && (0.0..1.0).contains(&threshold)) {
         return Err(input(format!(
             "--threshold must be a fraction of the peak in [0, 1), got {threshold}"

@@ -750,10 +750,9 @@ impl ActionSeries {
         if built || self.rebuilds == 0 {
             self.rebuilds += 1;
         }
-        if built {
-            self.level_from_draws();
-        } else if self.params.weights.iter().all(|&w| w < 1.0) {
-            // Scalars moved, densities kept: keep the level measured with them.
+        if self.params.weights.iter().all(|&w| w < 1.0) {
+            // A blend keeps the level last estimated for it until the next
+            // [`refresh_level`](Self::refresh_level).
             self.params.level_gain = self.last_level_gain;
         }
     }
@@ -763,9 +762,10 @@ impl ActionSeries {
     /// [`LEVEL_DRAWS`] draws of a private generator (fixed seed, so the estimate is a
     /// smooth, deterministic function of the parameters), against the anchors' powers
     /// estimated the same way; the gain brings the blend to the power interpolated in dB,
-    /// Σwᵢ·ln Pᵢ, capped at ±20 dB. Runs when the quantile tables are rebuilt (at most
-    /// every [`crate::source::ACTION_UPDATE_S`] while the cursor moves). Real-time safe.
-    fn level_from_draws(&mut self) {
+    /// Σwᵢ·ln Pᵢ, capped at ±20 dB. Runs when asked (at most
+    /// every [`crate::source::ACTION_UPDATE_S`] while the controls move, always once they
+    /// have arrived and on a reset: [`crate::source::Source`] decides). Real-time safe.
+    pub fn refresh_level(&mut self) {
         let w = self.params.weights;
         if w.iter().any(|&x| x >= 1.0) {
             self.params.level_gain = 1.0;
@@ -817,14 +817,8 @@ impl ActionSeries {
     /// Tell the series the size, roughness and sample rate its parameters were made for
     /// (the anchors of its loudness compensation).
     pub fn set_anchor_controls(&mut self, size: f64, roughness: f64, sample_rate_hz: f64) {
-        let key = [size, roughness, sample_rate_hz];
-        if key != [self.anchor_size, self.anchor_roughness, self.anchor_fs] {
-            (self.anchor_size, self.anchor_roughness, self.anchor_fs) =
-                (size, roughness, sample_rate_hz);
-            if self.rebuilds > 0 {
-                self.level_from_draws();
-            }
-        }
+        (self.anchor_size, self.anchor_roughness, self.anchor_fs) =
+            (size, roughness, sample_rate_hz);
     }
 
     fn advance(&mut self) -> (f64, f64) {

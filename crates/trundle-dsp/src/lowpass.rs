@@ -10,6 +10,13 @@
 //! * loudness gain L(V) = √V: V = 0 is a ball at rest — silence — and loudness grows with
 //!   speed (the kinetic energy goes with V², the radiated amplitude here with √V, a
 //!   compromise that keeps slow balls audible; −10 dB at V = 0.1).
+//! * size gain G(S) = (S/0.4)^−¾ ([`size_gain`]): the pulse law makes a ball's pulses last,
+//!   and so carry low-frequency amplitude, in proportion to its size S (t₀ ∝ S, TASLP eq 16):
+//!   alone it would make the largest ball 20 dB louder than the smallest in the object's low
+//!   modes. A quarter of that is kept — big balls are louder, by 5 dB per decade of size — so
+//!   the whole size × speed range stays in a mixing range (at its loudest corner, S 1 and
+//!   V 1, the sound peaks just under the safety limiter's −1 dBFS, `tests/levels.rs`). 1 at
+//!   the default size 0.4.
 //!
 //! The filter is a 2-pole state-variable filter in the topology-preserving form
 //! (Zavalishin), Butterworth damping: unconditionally stable and click-free under fast
@@ -30,6 +37,12 @@ pub fn cutoff_hz(velocity: f64) -> f64 {
 #[inline]
 pub fn loudness(velocity: f64) -> f64 {
     velocity.clamp(0.0, 1.0).sqrt()
+}
+
+/// G(S) = (S/0.4)^−¾, the force's gain for ball size S (module docs).
+#[inline]
+pub fn size_gain(size: f64) -> f64 {
+    (size.clamp(0.1, 1.0) / 0.4).powf(-0.75)
 }
 
 /// Two-pole TPT state-variable low-pass.

@@ -13,7 +13,7 @@
 //! target) generates no impacts at all.
 
 use crate::action::{ActionParams, ActionSeries, ActionStep};
-use crate::lowpass::{cutoff_hz, loudness, Lowpass};
+use crate::lowpass::{cutoff_hz, loudness, size_gain, Lowpass};
 use crate::modulation::{depth_at, rate_hz, AsymmetryLaw, Modulator};
 use crate::pulse::{duration_s, PulseEval, PulseShape, PulseTrain, T0_MAX_S};
 use crate::smooth::Smoother;
@@ -196,6 +196,8 @@ pub struct Source {
     action_at: [f64; 4],
     /// Chunks since the action densities were last rebuilt.
     action_age: usize,
+    /// Updates since a blend's loudness was last estimated.
+    level_age: usize,
     /// The densities in force lag behind the controls (a rebuild is due).
     action_stale: bool,
     log: ImpactLog,
@@ -240,6 +242,7 @@ impl Source {
             asymmetry_law: controls.asymmetry_law,
             action_at: [f64::NAN; 4],
             action_age: 0,
+            level_age: 0,
             action_stale: false,
             log: ImpactLog::new(),
         };
@@ -348,6 +351,14 @@ impl Source {
         self.action_at = at;
         self.series.set_anchor_controls(at[2], at[3], self.fs);
         self.series.set_params(next);
+        // A blend's loudness (`action`): estimated again at most every ACTION_UPDATE_S
+        // while the controls move, and always once they have arrived (or on a reset), so
+        // the level depends only on where the controls are, never on the way there.
+        self.level_age = self.level_age.saturating_add(1);
+        if force || !moving || self.level_age >= every.max(1) {
+            self.series.refresh_level();
+            self.level_age = 0;
+        }
     }
 
     /// The action parameters in force (weights, blended filters and densities).
@@ -492,7 +503,10 @@ impl Source {
 
         // Loudness L(V), interpolated per sample, and the contact's 1/c (the pulse keeps its
         // area: a shorter contact is taller).
-        let (l0, l1) = ((loudness(v0) / c0) as f32, (loudness(v1) / c1) as f32);
+        let (l0, l1) = (
+            (loudness(v0) * size_gain(s0) / c0) as f32,
+            (loudness(v1) * size_gain(s1) / c1) as f32,
+        );
         if l0 == l1 {
             if l1 != 1.0 {
                 out.iter_mut().for_each(|x| *x *= l1);
