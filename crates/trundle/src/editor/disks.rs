@@ -467,7 +467,7 @@ impl TrundleEditor {
         let top = Rect::from_min_size(body.min, Vec2::new(body.width(), strip));
         let body = Rect::from_min_max(Pos2::new(body.left(), body.top() + strip), body.max);
         if let TableParam::Int(p) = self.params.get(ParamId::BallMaterial) {
-            let (label, control) = labelled(top.shrink2(Vec2::new(4.0 * t.scale, 0.0)), t);
+            let (label, control) = labelled(top, t);
             widgets::caption(ui, label.center_top(), Align2::CENTER_TOP, "Ball", t);
             widgets::selector(
                 ui,

@@ -35,7 +35,7 @@ impl Layout {
         let header = Rect::from_min_size(Pos2::new(x0, y), Vec2::new(inner.width(), header_h));
         y += header_h + gap;
         // Top row: the two disks take equal square-ish panels, the spectrum the rest.
-        let disk_w = (top_h * 0.86).min(inner.width() * 0.215);
+        let disk_w = (top_h * 0.86).min(inner.width() * 0.225);
         let action = Rect::from_min_size(Pos2::new(x0, y), Vec2::new(disk_w, top_h));
         let material =
             Rect::from_min_size(Pos2::new(action.right() + gap, y), Vec2::new(disk_w, top_h));
@@ -54,7 +54,7 @@ impl Layout {
         let bottom_h = bottom_h - tabs_h;
         let bottom = Rect::from_min_size(Pos2::new(x0, y), Vec2::new(inner.width(), bottom_h));
         // Bottom row: widths proportional to what each section holds.
-        let units = [6.4, 4.3, 4.6];
+        let units = [6.1, 4.0, 5.2];
         let total: f32 = units.iter().sum();
         let free_w = inner.width() - 2.0 * gap;
         let w0 = free_w * units[0] / total;

@@ -301,7 +301,7 @@ impl NiceEguiApp for TrundleEditor {
         }
 
         let body = panel(ui, l.output, "OUTPUT", None, &t);
-        let (knobs, side) = split_side(body, 2, 2.6);
+        let (knobs, side) = split_side(body, 2, 3.5);
         self.knob_row(
             ui,
             knobs,

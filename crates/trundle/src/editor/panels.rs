@@ -114,29 +114,43 @@ impl TrundleEditor {
         t: &Theme,
     ) {
         let s = t.scale;
-        let row_h = side.height() / 4.0;
-        let control_h = (22.0 * s).min(row_h * 0.55);
+        // Four rows do not leave room for a caption over each control: the captions stand
+        // in a column on the left, each beside its control.
+        let captions = ["Output", "Run", "Seed", "Limiter"];
+        let caption_w = captions
+            .iter()
+            .map(|c| {
+                let font = FontId::proportional(t.font_small);
+                ui.painter()
+                    .layout_no_wrap(c.to_string(), font, TEXT_DIM)
+                    .size()
+                    .x
+            })
+            .fold(0.0, f32::max)
+            + 6.0 * s;
+        // Rows share the column's height, but no wider apart than a comfortable row (a
+        // tall window keeps the stack together, centred).
+        let row_h = (side.height() / 4.0).min(36.0 * s);
+        let top = side.center().y - 2.0 * row_h;
+        let control_h = (22.0 * s).min(row_h * 0.8);
         let row = |i: usize| {
-            let top = side.top() + row_h * i as f32;
-            let label = Rect::from_min_size(
-                Pos2::new(side.left(), top),
-                Vec2::new(side.width(), t.font_small * 1.5),
-            );
-            let control = Rect::from_min_size(
-                Pos2::new(side.left(), label.bottom() + 2.0 * s),
-                Vec2::new(side.width(), control_h),
+            let y = top + row_h * (i as f32 + 0.5);
+            let label = Pos2::new(side.left(), y);
+            let control = Rect::from_min_max(
+                Pos2::new(side.left() + caption_w, y - 0.5 * control_h),
+                Pos2::new(side.right(), y + 0.5 * control_h),
             );
             (label, control)
         };
 
         let (label, control) = row(0);
-        widgets::caption(ui, label.left_top(), Align2::LEFT_TOP, "Output", t);
+        widgets::caption(ui, label, Align2::LEFT_CENTER, captions[0], t);
         if let TableParam::Int(p) = self.params.get(ParamId::Output) {
             widgets::selector(ui, control, p, setter, false, ParamId::Output.spec().doc, t);
         }
 
         let (label, control) = row(1);
-        widgets::caption(ui, label.left_top(), Align2::LEFT_TOP, "Run", t);
+        widgets::caption(ui, label, Align2::LEFT_CENTER, captions[1], t);
         widgets::selector(
             ui,
             control,
@@ -148,7 +162,7 @@ impl TrundleEditor {
         );
 
         let (label, control) = row(2);
-        widgets::caption(ui, label.left_top(), Align2::LEFT_TOP, "Seed", t);
+        widgets::caption(ui, label, Align2::LEFT_CENTER, captions[2], t);
         if let TableParam::Int(p) = self.params.get(ParamId::Seed) {
             let new_w = 44.0 * s;
             let field = Rect::from_min_max(
@@ -178,7 +192,7 @@ impl TrundleEditor {
         }
 
         let (label, control) = row(3);
-        widgets::caption(ui, label.left_top(), Align2::LEFT_TOP, "Limiter", t);
+        widgets::caption(ui, label, Align2::LEFT_CENTER, captions[3], t);
         // The meter runs every frame (the audio thread's value is taken and cleared), so
         // its hold and fall keep time whether or not the limiter is on.
         let dt = ui.input(|i| i.stable_dt);

@@ -233,8 +233,8 @@ fn fitted_text(
 
 /// A row (or column) of buttons choosing one value of an integer or enumerated `param`, each
 /// named by the parameter's own formatting. In a row, each button is as wide as its name
-/// needs plus an equal share of the rest; names shrink if the row is too narrow. A click is
-/// one complete gesture.
+/// needs plus an equal share of the rest; if the row is too narrow the shares narrow first,
+/// then the names shrink. A click is one complete gesture.
 pub fn selector(
     ui: &mut egui::Ui,
     rect: Rect,
@@ -250,7 +250,9 @@ pub fn selector(
     let current = param.unmodulated_plain_value();
     let painter = ui.painter_at(rect.expand(1.0));
     let radius = t.radius_small();
-    let pad = 0.9 * t.font_small;
+    // The room a name wants on either side; a tight row gives up some of it (down to what
+    // keeps a selected name off its highlight's edge) before its names shrink.
+    let mut pad = 0.9 * t.font_small;
     let layout = |font_size: f32| -> Vec<std::sync::Arc<egui::Galley>> {
         (0..n)
             .map(|i| {
@@ -262,6 +264,9 @@ pub fn selector(
     };
     let mut galleys = layout(t.font_small);
     let text_w: f32 = galleys.iter().map(|g| g.size().x).sum();
+    if !vertical {
+        pad = ((rect.width() - text_w) / n as f32).clamp(0.75 * t.font_small, pad);
+    }
     if !vertical && text_w + n as f32 * pad > rect.width() {
         let shrink = ((rect.width() - n as f32 * pad) / text_w).clamp(0.5, 1.0);
         galleys = layout(t.font_small * shrink);
