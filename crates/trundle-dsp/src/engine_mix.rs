@@ -23,7 +23,8 @@
 //!   physics force is scaled, continuously, to the signal model's loudness at the same
 //!   controls: while the physics engine runs, the signal model runs beside it and the voice
 //!   plays both forces (the physics one unscaled) through twins of the object (together
-//!   ≈ 20 ns per sample, under half the physics' own cost); the physics force's gain is the
+//!   ≈ 35 ns per sample at 32 modes, measured by `trundle bench`: the physics voice went
+//!   from 47 to 82 ns per sample); the physics force's gain is the
 //!   ratio of the two twins' mean squares, each averaged over [`LEVEL_MATCH_S`] (a running mean from the engine's start,
 //!   then exponential). Matching the sounds, not the forces, matters: the physics force
 //!   carries far more of its power above the object's loudest modes. The level follows the
