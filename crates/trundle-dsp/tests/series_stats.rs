@@ -34,6 +34,13 @@ fn render(p: &Params, seconds: f64) -> Vec<f32> {
     out
 }
 
+/// The series amplitude per unit of force peak at V = 1: the pulse keeps its area under the
+/// contact scale c (height 1/c, `trundle_dsp::contact`) and the force carries the size gain
+/// G(S) (`trundle_dsp::lowpass::size_gain`), so A = peak·c/G(S).
+fn series_per_peak(p: &Params) -> f64 {
+    p.contact_scale() / trundle_dsp::lowpass::size_gain(p.get(ParamId::Size))
+}
+
 fn mean(x: &[f64]) -> f64 {
     x.iter().sum::<f64>() / x.len() as f64
 }
@@ -83,8 +90,9 @@ fn rendered_force_recovers_table_i() {
         // Threshold at half the floor amplitude: every emitted impact is above it.
         let impacts = extract_impacts(&force, FS, 0.005);
         // The pulses keep their area under the ball's contact (`trundle_dsp::contact`): a
-        // contact c times the papers' is 1/c times as tall. The series is A = c·peak.
-        let c = p.contact_scale();
+        // contact c times the papers' is 1/c times as tall, and the force carries the size
+        // gain G(S). The series is A = c·peak/G(S).
+        let c = series_per_peak(&p);
         let a: Vec<f64> = impacts[..impacts.len() - 1]
             .iter()
             .map(|i| c * i.amplitude)
@@ -186,7 +194,7 @@ fn extracted_impacts_match_the_reported_ones() {
         "delay {} samples",
         delay * FS
     );
-    let c = p.contact_scale();
+    let c = series_per_peak(&p);
     for (e, r) in &pairs {
         assert!(
             (e.time_s - r.time_s - delay).abs() * FS < 0.1,
@@ -194,8 +202,8 @@ fn extracted_impacts_match_the_reported_ones() {
             e.time_s,
             r.time_s
         );
-        // The low-pass removes < 0.5 % of a 0.2 ms pulse's peak; the peak is A/c (the
-        // pulse keeps its area under the contact scale c).
+        // The low-pass removes < 0.5 % of a 0.2 ms pulse's peak; the peak is A·G(S)/c
+        // (`series_per_peak`).
         let want = r.amplitude / c;
         assert!(
             (e.amplitude - want).abs() < 0.01 * want + 1e-3,
@@ -224,8 +232,8 @@ fn pulse_durations_follow_the_t0_law() {
             .map(|w| w[1])
             .collect();
         assert!(isolated.len() > 5_000);
-        // The law is in the series amplitude A = c·peak (the pulse keeps its area).
-        let c = p.contact_scale();
+        // The law is in the series amplitude A = c·peak/G(S) (`series_per_peak`).
+        let c = series_per_peak(&p);
         let isolated: Vec<_> = isolated
             .into_iter()
             .map(|mut i| {
