@@ -312,25 +312,9 @@ fn plan(args: &RenderArgs) -> Result<Plan, CliError> {
         }
     }
 
-    let fs = f64::from(sample_rate);
-    let mut events = Vec::new();
-    for b in &preset.balls {
-        events.push((
-            (b.start_s * fs).round() as u64,
-            VoiceEvent::NoteOn {
-                note: b.note,
-                velocity: b.velocity,
-            },
-        ));
-        if let Some(stop) = b.stop_s {
-            events.push((
-                (stop * fs).round() as u64,
-                VoiceEvent::NoteOff { note: b.note },
-            ));
-        }
-    }
-    // Stable: an off and an on of the same note at the same sample keep the file's order.
-    events.sort_by_key(|e| e.0);
+    // The preset's balls as note events, sorted (stable: an off and an on of one note at
+    // one sample keep the file's order).
+    let events = preset.note_events(f64::from(sample_rate));
     Ok(Plan {
         params,
         automation,
