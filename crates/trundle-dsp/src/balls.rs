@@ -26,6 +26,25 @@
 //! When every slot is busy, the oldest ball is stopped abruptly and reused (voice
 //! stealing). Balls use the signal engine.
 //!
+//! ## Expression per ball
+//! A ball is addressed as the host addresses a note ([`BallTarget`]: a voice id, or a key
+//! and a channel, any of them a wildcard) and follows its own gestures ([`Expression`]):
+//!
+//! | gesture | acts on | law |
+//! |---|---|---|
+//! | pressure p ∈ [0, 1] | contact load → loudness | force × (1 + p): up to +6 dB |
+//! | timbre / brightness b ∈ [0, 1] | roughness | ρ = ρ_scene + (b − ½), clamped to [0, 1] |
+//! | tuning / pitch bend t (semitones) | speed | V = V_note · 2^(t/12): an octave up, twice as fast |
+//! | volume g (linear gain) | loudness | force × g |
+//! | pan q ∈ [−1, 1] | where the ball rolls | x = x_note + q (clamped): towards a pickup |
+//! | poly modulation of `velocity`, `roughness`, `size` | that control | value + offset, clamped to its range |
+//!
+//! A neutral gesture (p = 0, b = ½, t = 0, g = 1, q = 0, offsets 0) leaves the ball exactly as
+//! it would be without expression. Loudness changes glide linearly over one chunk (no zipper
+//! noise); speed, roughness and size go through the source's own smoothing. A bend on the
+//! pool as a whole ([`BallPool::set_master_tuning`]: an MPE zone's master channel, or a plain
+//! keyboard's pitch wheel) adds to every ball's own tuning, present and future.
+//!
 //! ## Level law
 //! Balls rolling independently are uncorrelated, so their forces add in power: N balls
 //! would be √N times (10·log₁₀N dB) louder than one, +12 dB for sixteen, and a scene's level
@@ -59,6 +78,128 @@ pub const STOP_SOFT_SPEED: f64 = 0.1;
 /// pulses (at most [`crate::pulse::T0_MAX_S`]) play out.
 const RELEASE_S: f64 = 0.010;
 
+/// How a ball is named by the host: the note it was started by. Every field may be a
+/// wildcard (`None`); a [`BallTarget`] with a voice id names only that ball.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct BallTarget {
+    /// The host's voice (note) id, if it gave one.
+    pub voice_id: Option<i32>,
+    /// MIDI channel 0–15 (for MPE: the note's own channel).
+    pub channel: Option<u8>,
+    /// Key (note number) 0–127.
+    pub key: Option<u8>,
+}
+
+impl BallTarget {
+    /// Every ball.
+    pub const ALL: Self = Self {
+        voice_id: None,
+        channel: None,
+        key: None,
+    };
+
+    /// The balls started on `channel` (MPE: one note per channel).
+    pub fn channel(channel: u8) -> Self {
+        Self {
+            channel: Some(channel),
+            ..Self::ALL
+        }
+    }
+
+    /// Whether a ball started as `id` is named by this target: by voice id when the target
+    /// gives one, otherwise by key and channel (wildcards match anything).
+    pub fn matches(&self, id: &BallId) -> bool {
+        if let Some(v) = self.voice_id {
+            return id.voice_id == Some(v);
+        }
+        self.channel.is_none_or(|c| c == id.channel) && self.key.is_none_or(|k| k == id.key)
+    }
+}
+
+/// What a sounding ball was started as (reported back when it ends, for the host's voice
+/// bookkeeping: CLAP's note-end event).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct BallId {
+    /// The host's voice id, if it gave one.
+    pub voice_id: Option<i32>,
+    /// MIDI channel 0–15.
+    pub channel: u8,
+    /// Key (note number) 0–127.
+    pub key: u8,
+}
+
+/// A per-ball gesture (module docs: the table of what each does).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Expression {
+    /// Pressure (aftertouch) 0…1 → contact load: force × (1 + p).
+    Pressure(f64),
+    /// Timbre / brightness (MPE CC 74, CLAP brightness) 0…1 → roughness offset b − ½.
+    Brightness(f64),
+    /// Tuning in semitones (pitch bend, CLAP tuning) → speed × 2^(t/12).
+    TuningSemitones(f64),
+    /// Volume as a linear gain (CLAP volume, 0…4).
+    Volume(f64),
+    /// Pan −1…1 → the ball's x on the object, towards the left or right pickup.
+    Pan(f64),
+    /// Poly modulation of `velocity`: an offset in m/s.
+    VelocityOffset(f64),
+    /// Poly modulation of `roughness`: an offset in roughness units.
+    RoughnessOffset(f64),
+    /// Poly modulation of `size`: an offset in size units.
+    SizeOffset(f64),
+}
+
+/// A ball's gestures, neutral by default.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Gestures {
+    pressure: f64,
+    brightness: f64,
+    tuning_st: f64,
+    volume: f64,
+    pan: f64,
+    velocity_offset: f64,
+    roughness_offset: f64,
+    size_offset: f64,
+}
+
+impl Default for Gestures {
+    fn default() -> Self {
+        Self {
+            pressure: 0.0,
+            brightness: 0.5,
+            tuning_st: 0.0,
+            volume: 1.0,
+            pan: 0.0,
+            velocity_offset: 0.0,
+            roughness_offset: 0.0,
+            size_offset: 0.0,
+        }
+    }
+}
+
+impl Gestures {
+    /// Take one gesture; non-finite values are ignored, others clamped to their range.
+    fn apply(&mut self, e: Expression) {
+        let ok = |x: f64| x.is_finite();
+        match e {
+            Expression::Pressure(p) if ok(p) => self.pressure = p.clamp(0.0, 1.0),
+            Expression::Brightness(b) if ok(b) => self.brightness = b.clamp(0.0, 1.0),
+            Expression::TuningSemitones(t) if ok(t) => self.tuning_st = t.clamp(-128.0, 128.0),
+            Expression::Volume(g) if ok(g) => self.volume = g.clamp(0.0, 4.0),
+            Expression::Pan(q) if ok(q) => self.pan = q.clamp(-1.0, 1.0),
+            Expression::VelocityOffset(d) if ok(d) => self.velocity_offset = d.clamp(-1.0, 1.0),
+            Expression::RoughnessOffset(d) if ok(d) => self.roughness_offset = d.clamp(-1.0, 1.0),
+            Expression::SizeOffset(d) if ok(d) => self.size_offset = d.clamp(-1.0, 1.0),
+            _ => {}
+        }
+    }
+
+    /// The loudness factor.
+    fn gain(&self) -> f64 {
+        (1.0 + self.pressure) * self.volume
+    }
+}
+
 /// The level law's gain for `rolling` balls: 1/√N (1 for none or one).
 pub fn level_for_balls(rolling: usize) -> f64 {
     1.0 / (rolling.max(1) as f64).sqrt()
@@ -91,7 +232,10 @@ pub fn position_for_note(note: u8) -> (f64, f64) {
 struct Ball {
     source: Source,
     space: Space,
-    note: u8,
+    id: BallId,
+    gestures: Gestures,
+    /// The loudness factor reached at the end of the last chunk (ramped from, per chunk).
+    gain: f64,
     active: bool,
     stopping: bool,
     /// Samples since the ball came to rest (after a note off).
@@ -114,6 +258,12 @@ pub struct BallPool {
     /// Number of active balls (kept in step with the slots: the idle check reads it every
     /// chunk without touching them).
     count: usize,
+    /// A bend applying to every ball (semitones).
+    master_tuning_st: f64,
+    /// Balls that ended (came to rest, were stolen or reset) since the last
+    /// [`drain_ended`](Self::drain_ended); at most one per slot between drains is kept.
+    ended: [BallId; 2 * MAX_BALLS],
+    ended_count: usize,
 }
 
 impl BallPool {
@@ -123,7 +273,9 @@ impl BallPool {
         let make = || Ball {
             source: Source::new(fs, SourceControls::default(), 0),
             space: Space::new(fs, SpaceControls::default()),
-            note: 0,
+            id: BallId::default(),
+            gestures: Gestures::default(),
+            gain: 1.0,
             active: false,
             stopping: false,
             rest_samples: 0,
@@ -139,7 +291,26 @@ impl BallPool {
             base_seed: 0,
             buf: [0.0; CHUNK],
             count: 0,
+            master_tuning_st: 0.0,
+            ended: [BallId::default(); 2 * MAX_BALLS],
+            ended_count: 0,
         }
+    }
+
+    fn record_ended(&mut self, id: BallId) {
+        if self.ended_count < self.ended.len() {
+            self.ended[self.ended_count] = id;
+            self.ended_count += 1;
+        }
+    }
+
+    /// Hand every ball that ended since the last call to `f` (came to rest after its note
+    /// off, was stolen, or was stopped by a reset), oldest first. Real-time safe.
+    pub fn drain_ended(&mut self, mut f: impl FnMut(BallId)) {
+        for id in &self.ended[..self.ended_count] {
+            f(*id);
+        }
+        self.ended_count = 0;
     }
 
     /// Change the sample rate (allocates) and stop every ball.
@@ -149,9 +320,13 @@ impl BallPool {
 
     /// Stop every ball at once and restart the seed sequence (real-time safe).
     pub fn reset(&mut self, base_seed: u64) {
-        for b in &mut self.balls {
-            b.active = false;
+        for i in 0..self.balls.len() {
+            if self.balls[i].active {
+                self.balls[i].active = false;
+                self.record_ended(self.balls[i].id);
+            }
         }
+        self.master_tuning_st = 0.0;
         self.started = 0;
         self.base_seed = base_seed;
         self.count = 0;
@@ -172,6 +347,24 @@ impl BallPool {
         scene: SourceControls,
         space: SpaceControls,
     ) {
+        let id = BallId {
+            voice_id: None,
+            channel: 0,
+            key: note,
+        };
+        self.ball_on(id, velocity, scene, space);
+    }
+
+    /// Start a ball named `id` (its key sets the size, as [`note_on`](Self::note_on)), with
+    /// neutral gestures. Real-time safe.
+    pub fn ball_on(
+        &mut self,
+        id: BallId,
+        velocity: f64,
+        scene: SourceControls,
+        space: SpaceControls,
+    ) {
+        let note = id.key.min(127);
         let slot = match self.balls.iter().position(|b| !b.active) {
             Some(i) => i,
             None => {
@@ -181,6 +374,8 @@ impl BallPool {
                         oldest = i;
                     }
                 }
+                let stolen = self.balls[oldest].id;
+                self.record_ended(stolen);
                 oldest
             }
         };
@@ -190,8 +385,11 @@ impl BallPool {
             .wrapping_mul(0x9E37_79B9_7F4A_7C15)
             .wrapping_add(u64::from(note) << 32)
             .wrapping_add(self.started);
+        let master = self.master_tuning_st;
         let b = &mut self.balls[slot];
-        b.note = note;
+        b.id = BallId { key: note, ..id };
+        b.gestures = Gestures::default();
+        b.gain = 1.0;
         b.active = true;
         b.stopping = false;
         b.rest_samples = 0;
@@ -199,7 +397,7 @@ impl BallPool {
         b.size = size_for_note(note);
         b.velocity = velocity_for_note(velocity);
         b.position = position_for_note(note);
-        let (sc, pc) = Self::controls(b, scene, space);
+        let (sc, pc) = Self::controls(b, scene, space, master);
         b.source.set_controls(sc);
         b.source.set_seed(seed);
         b.source.reset();
@@ -210,10 +408,35 @@ impl BallPool {
 
     /// Stop the ball(s) playing `note` (they roll to a halt). Real-time safe.
     pub fn note_off(&mut self, note: u8) {
+        self.ball_off(BallTarget {
+            key: Some(note),
+            ..BallTarget::ALL
+        });
+    }
+
+    /// Stop the ball(s) named by `target`: they roll to a halt. Real-time safe.
+    pub fn ball_off(&mut self, target: BallTarget) {
         for b in &mut self.balls {
-            if b.active && !b.stopping && b.note == note {
+            if b.active && !b.stopping && target.matches(&b.id) {
                 b.stopping = true;
             }
+        }
+    }
+
+    /// Apply a gesture to the ball(s) named by `target` (module docs). Real-time safe.
+    pub fn express(&mut self, target: BallTarget, expression: Expression) {
+        for b in &mut self.balls {
+            if b.active && target.matches(&b.id) {
+                b.gestures.apply(expression);
+            }
+        }
+    }
+
+    /// A bend (semitones) for every ball, on top of each ball's own tuning: an MPE zone's
+    /// master channel or a plain keyboard's pitch wheel. Non-finite values are ignored.
+    pub fn set_master_tuning(&mut self, semitones: f64) {
+        if semitones.is_finite() {
+            self.master_tuning_st = semitones.clamp(-128.0, 128.0);
         }
     }
 
@@ -226,20 +449,36 @@ impl BallPool {
         }
     }
 
+    /// The ball's controls: the scene's, with its own size, speed and position and its
+    /// gestures applied (module docs). Neutral gestures give the note's values exactly.
     fn controls(
         b: &Ball,
         scene: SourceControls,
         space: SpaceControls,
+        master_tuning_st: f64,
     ) -> (SourceControls, SpaceControls) {
+        let g = &b.gestures;
+        let tuning = g.tuning_st + master_tuning_st;
+        let mut velocity = b.velocity;
+        if tuning != 0.0 {
+            velocity *= (tuning / 12.0).exp2();
+        }
+        if g.velocity_offset != 0.0 && !b.stopping {
+            velocity += g.velocity_offset;
+        }
+        let velocity = velocity.clamp(0.0, 1.0);
+        let roughness = scene.roughness + (g.brightness - 0.5) + g.roughness_offset;
+        let (x, y) = b.position;
         (
             SourceControls {
-                size: b.size,
-                velocity: b.velocity,
+                size: (b.size + g.size_offset).clamp(0.1, 1.0),
+                velocity,
+                roughness: roughness.clamp(0.0, 1.0),
                 ..scene
             },
             SpaceControls {
-                position: b.position,
-                velocity: b.velocity,
+                position: ((x + g.pan).clamp(-1.0, 1.0), y),
+                velocity,
                 ..space
             },
         )
@@ -250,6 +489,7 @@ impl BallPool {
     pub fn add_chunk(&mut self, force: &mut [f32], scene: SourceControls, space: SpaceControls) {
         let n = force.len().min(CHUNK);
         let slow_by = STOP_DECELERATION_M_S2 * n as f64 / self.fs;
+        let master = self.master_tuning_st;
         for b in self.balls.iter_mut().filter(|b| b.active) {
             if b.stopping {
                 // Rolling to rest (module docs): the speed falls linearly, then settles
@@ -261,14 +501,24 @@ impl BallPool {
                     b.velocity = 0.0;
                 }
             }
-            let (sc, pc) = Self::controls(b, scene, space);
+            let (sc, pc) = Self::controls(b, scene, space, master);
             b.source.set_controls(sc);
             b.space.set_controls(pc);
             let buf = &mut self.buf[..n];
             b.source.process_chunk(buf);
             b.space.process(buf);
-            for (f, x) in force.iter_mut().zip(buf.iter()) {
-                *f += *x;
+            let target = b.gestures.gain();
+            if target == 1.0 && b.gain == 1.0 {
+                for (f, x) in force.iter_mut().zip(buf.iter()) {
+                    *f += *x;
+                }
+            } else {
+                // A loudness gesture glides linearly across the chunk (no zipper noise).
+                let (g0, step) = (b.gain as f32, ((target - b.gain) / n as f64) as f32);
+                for (i, (f, x)) in force.iter_mut().zip(buf.iter()).enumerate() {
+                    *f += *x * (g0 + step * (i + 1) as f32);
+                }
+                b.gain = target;
             }
             // Stopped: its loudness √V is 50 dB down and its last pulses have played.
             if b.stopping && b.source.velocity() < 1e-5 {
@@ -276,6 +526,10 @@ impl BallPool {
                 if b.rest_samples as f64 >= RELEASE_S * self.fs {
                     b.active = false;
                     self.count -= 1;
+                    if self.ended_count < self.ended.len() {
+                        self.ended[self.ended_count] = b.id;
+                        self.ended_count += 1;
+                    }
                 }
             }
         }
@@ -341,5 +595,168 @@ mod tests {
             pool.note_on(40 + n, 0.5, sc, pc);
         }
         assert_eq!(pool.active(), MAX_BALLS);
+    }
+
+    fn one_ball(id: BallId) -> BallPool {
+        let mut pool = BallPool::new(48_000.0);
+        pool.ball_on(id, 0.3, SourceControls::default(), SpaceControls::default());
+        pool
+    }
+
+    fn controls_of(pool: &BallPool) -> (SourceControls, SpaceControls) {
+        let b = pool.balls.iter().find(|b| b.active).unwrap();
+        BallPool::controls(
+            b,
+            SourceControls::default(),
+            SpaceControls::default(),
+            pool.master_tuning_st,
+        )
+    }
+
+    #[test]
+    fn gestures_follow_their_laws_and_neutral_changes_nothing() {
+        let id = BallId {
+            voice_id: Some(5),
+            channel: 2,
+            key: 60,
+        };
+        let mut pool = one_ball(id);
+        let (sc0, pc0) = controls_of(&pool);
+        assert_eq!(sc0.velocity, 0.3);
+        assert_eq!(sc0.size, size_for_note(60));
+        assert_eq!(sc0.roughness, SourceControls::default().roughness);
+        assert_eq!(pc0.position, position_for_note(60));
+        let me = BallTarget {
+            voice_id: Some(5),
+            ..BallTarget::ALL
+        };
+        // Neutral values leave the ball exactly as it was.
+        for e in [
+            Expression::Pressure(0.0),
+            Expression::Brightness(0.5),
+            Expression::TuningSemitones(0.0),
+            Expression::Volume(1.0),
+            Expression::Pan(0.0),
+            Expression::VelocityOffset(0.0),
+        ] {
+            pool.express(me, e);
+        }
+        assert_eq!(controls_of(&pool), (sc0, pc0));
+        // An octave up: twice as fast (0.3 → 0.6); with the master's two semitones more.
+        pool.express(me, Expression::TuningSemitones(12.0));
+        assert!((controls_of(&pool).0.velocity - 0.6).abs() < 1e-12);
+        pool.set_master_tuning(-12.0);
+        assert!((controls_of(&pool).0.velocity - 0.3).abs() < 1e-12);
+        pool.set_master_tuning(0.0);
+        pool.express(me, Expression::TuningSemitones(48.0));
+        assert_eq!(controls_of(&pool).0.velocity, 1.0, "clamped to the range");
+        pool.express(me, Expression::TuningSemitones(0.0));
+        // Timbre: roughness moves by b − ½.
+        pool.express(me, Expression::Brightness(0.75));
+        assert!((controls_of(&pool).0.roughness - (sc0.roughness + 0.25)).abs() < 1e-12);
+        // Poly modulation offsets add in the controls' units.
+        pool.express(me, Expression::SizeOffset(0.1));
+        assert!((controls_of(&pool).0.size - (sc0.size + 0.1)).abs() < 1e-12);
+        pool.express(me, Expression::VelocityOffset(-0.1));
+        assert!((controls_of(&pool).0.velocity - 0.2).abs() < 1e-12);
+        // Pan moves the ball along x.
+        pool.express(me, Expression::Pan(-0.5));
+        assert!((controls_of(&pool).1.position.0 - (pc0.position.0 - 0.5).max(-1.0)).abs() < 1e-12);
+        // Pressure and volume are the loudness factor.
+        pool.express(me, Expression::Pressure(1.0));
+        pool.express(me, Expression::Volume(0.5));
+        let b = pool.balls.iter().find(|b| b.active).unwrap();
+        assert_eq!(b.gestures.gain(), 1.0);
+        // Non-finite gestures are ignored.
+        pool.express(me, Expression::Pressure(f64::NAN));
+        let b = pool.balls.iter().find(|b| b.active).unwrap();
+        assert_eq!(b.gestures.pressure, 1.0);
+    }
+
+    #[test]
+    fn gestures_reach_only_the_balls_they_name() {
+        let mut pool = BallPool::new(48_000.0);
+        let (sc, pc) = (SourceControls::default(), SpaceControls::default());
+        for (v, ch, key) in [(1, 1, 60), (2, 2, 60), (3, 2, 64)] {
+            let id = BallId {
+                voice_id: Some(v),
+                channel: ch,
+                key,
+            };
+            pool.ball_on(id, 0.5, sc, pc);
+        }
+        let pressure = |pool: &BallPool| -> Vec<f64> {
+            pool.balls
+                .iter()
+                .filter(|b| b.active)
+                .map(|b| b.gestures.pressure)
+                .collect()
+        };
+        // By voice id: that ball only, whatever key and channel say.
+        pool.express(
+            BallTarget {
+                voice_id: Some(2),
+                channel: Some(9),
+                key: Some(1),
+            },
+            Expression::Pressure(0.2),
+        );
+        assert_eq!(pressure(&pool), vec![0.0, 0.2, 0.0]);
+        // By channel (MPE): both balls on channel 2.
+        pool.express(BallTarget::channel(2), Expression::Pressure(0.4));
+        assert_eq!(pressure(&pool), vec![0.0, 0.4, 0.4]);
+        // By key on any channel.
+        pool.express(
+            BallTarget {
+                key: Some(60),
+                ..BallTarget::ALL
+            },
+            Expression::Pressure(0.6),
+        );
+        assert_eq!(pressure(&pool), vec![0.6, 0.6, 0.4]);
+        // Note off by voice id stops that ball only.
+        pool.ball_off(BallTarget {
+            voice_id: Some(3),
+            ..BallTarget::ALL
+        });
+        let stopping: Vec<bool> = pool
+            .balls
+            .iter()
+            .filter(|b| b.active)
+            .map(|b| b.stopping)
+            .collect();
+        assert_eq!(stopping, vec![false, false, true]);
+    }
+
+    #[test]
+    fn ended_balls_are_reported_once() {
+        let mut pool = BallPool::new(48_000.0);
+        let (sc, pc) = (SourceControls::default(), SpaceControls::default());
+        let id = |v| BallId {
+            voice_id: Some(v),
+            channel: 0,
+            key: 50,
+        };
+        pool.ball_on(id(1), 0.4, sc, pc);
+        pool.ball_off(BallTarget::ALL);
+        let mut f = [0.0f32; CHUNK];
+        let mut ended = Vec::new();
+        for _ in 0..2000 {
+            f.fill(0.0);
+            pool.add_chunk(&mut f, sc, pc);
+            pool.drain_ended(|b| ended.push(b));
+        }
+        assert_eq!(ended, vec![id(1)], "rolled to rest");
+        // A full pool steals the oldest, and says so.
+        ended.clear();
+        for v in 0..(MAX_BALLS as i32 + 2) {
+            pool.ball_on(id(100 + v), 0.4, sc, pc);
+        }
+        pool.drain_ended(|b| ended.push(b));
+        assert_eq!(ended, vec![id(100), id(101)]);
+        pool.reset(0);
+        ended.clear();
+        pool.drain_ended(|b| ended.push(b));
+        assert_eq!(ended.len(), MAX_BALLS, "a reset ends every ball");
     }
 }

@@ -17,6 +17,7 @@
 //! Events must come sorted by offset. An event at or after the end of the block is applied
 //! at the end (it is due before the next block's first sample).
 
+use crate::balls::{BallId, BallTarget, Expression};
 use crate::params::Params;
 use crate::voice::Voice;
 
@@ -40,6 +41,28 @@ pub enum VoiceEvent {
         /// Note number 0–127.
         note: u8,
     },
+    /// A ball starts as a host note with its own name (voice id, channel, key), so later
+    /// gestures can address it; otherwise as [`VoiceEvent::NoteOn`] (the key sets the size).
+    BallOn {
+        /// How the host names it.
+        id: BallId,
+        /// Note velocity 0…1.
+        velocity: f64,
+    },
+    /// The ball(s) a host note names stop: they roll to a halt.
+    BallOff {
+        /// Which balls (wildcards allowed).
+        target: BallTarget,
+    },
+    /// A per-ball gesture (pressure, timbre, tuning, volume, pan, poly modulation).
+    Express {
+        /// Which balls (wildcards allowed).
+        target: BallTarget,
+        /// What changes ([`crate::balls`]: the table of laws).
+        expression: Expression,
+    },
+    /// A bend in semitones on every ball (an MPE zone's master channel, a keyboard's wheel).
+    MasterTuning(f64),
     /// New parameter targets (automation): the voice glides to them.
     Params(Params),
 }
@@ -59,6 +82,10 @@ impl Voice {
         match *event {
             VoiceEvent::NoteOn { note, velocity } => self.note_on(note, velocity),
             VoiceEvent::NoteOff { note } => self.note_off(note),
+            VoiceEvent::BallOn { id, velocity } => self.ball_on(id, velocity),
+            VoiceEvent::BallOff { target } => self.ball_off(target),
+            VoiceEvent::Express { target, expression } => self.express(target, expression),
+            VoiceEvent::MasterTuning(t) => self.set_master_tuning(t),
             VoiceEvent::Params(ref p) => self.set_params(p),
         }
     }

@@ -22,7 +22,7 @@
 //! the same seed and parameters give the same samples whether rendered in blocks of 1 or
 //! 8192.
 
-use crate::balls::BallPool;
+use crate::balls::{BallId, BallPool, BallTarget, Expression};
 use crate::dcblock::DcBlock;
 use crate::engine_mix::EngineMix;
 use crate::object::{Object, ObjectControls};
@@ -295,6 +295,36 @@ impl Voice {
     /// Stop the extra ball(s) of `note`: they roll to a halt. Real-time safe.
     pub fn note_off(&mut self, note: u8) {
         self.balls.note_off(note);
+    }
+
+    /// Start an extra ball named as the host names a note (voice id, channel, key), so that
+    /// per-ball gestures can address it ([`crate::balls`], "Expression per ball").
+    /// Real-time safe.
+    pub fn ball_on(&mut self, id: BallId, velocity: f64) {
+        let (sc, pc) = (source_controls(&self.params), space_controls(&self.params));
+        self.balls.ball_on(id, velocity, sc, pc);
+    }
+
+    /// Stop the extra ball(s) named by `target`: they roll to a halt. Real-time safe.
+    pub fn ball_off(&mut self, target: BallTarget) {
+        self.balls.ball_off(target);
+    }
+
+    /// A gesture for the ball(s) named by `target`: pressure, timbre, tuning, volume, pan
+    /// or a poly-modulation offset ([`crate::balls`]). Real-time safe.
+    pub fn express(&mut self, target: BallTarget, expression: Expression) {
+        self.balls.express(target, expression);
+    }
+
+    /// A bend (semitones) on every extra ball, present and future: speed × 2^(t/12).
+    pub fn set_master_tuning(&mut self, semitones: f64) {
+        self.balls.set_master_tuning(semitones);
+    }
+
+    /// Hand every extra ball that ended since the last call (rolled to rest, stolen, or
+    /// stopped by a reset) to `f`: a host is told so it can free its note (CLAP note end).
+    pub fn drain_ended_balls(&mut self, f: impl FnMut(BallId)) {
+        self.balls.drain_ended(f);
     }
 
     /// Stop every extra ball. Real-time safe.

@@ -2,6 +2,7 @@
 //! bounded and allocation-free; the same note sequence gives the same samples; stopped balls
 //! free their slots and the object rings out into silence.
 
+use trundle_dsp::balls::{BallId, BallTarget, Expression};
 use trundle_dsp::{ParamId, Params, Voice};
 
 mod common;
@@ -115,4 +116,99 @@ fn the_same_notes_give_the_same_samples_and_stopped_balls_fall_silent() {
     );
     // The wooden default object's modes decay in well under a second: −40 dB.
     assert!(diff < 1e-4 * energy, "stopped balls still sound");
+}
+
+/// One MIDI ball (the scene's own ball still) for `secs`, with `gesture` applied at 0.5 s
+/// (or none); returns the output and the allocations counted while applying and rendering.
+fn expressed(gesture: Option<(BallTarget, Expression)>, secs: f64) -> (Vec<f32>, usize) {
+    let fs = 48_000.0;
+    let mut p = Params::default();
+    p.set(ParamId::Velocity, 0.0).unwrap();
+    let mut v = Voice::new(fs, &p);
+    let id = BallId {
+        voice_id: Some(11),
+        channel: 3,
+        key: 60,
+    };
+    v.ball_on(id, 0.5);
+    let mut out = vec![0f32; (secs * fs) as usize];
+    let half = (0.5 * fs) as usize;
+    let mut allocs = allocations_during(|| v.process(&mut out[..half]));
+    if let Some((target, e)) = gesture {
+        allocs += allocations_during(|| v.express(target, e));
+    }
+    allocs += allocations_during(|| v.process(&mut out[half..]));
+    (out, allocs)
+}
+
+fn rms(x: &[f32]) -> f64 {
+    (x.iter().map(|s| f64::from(*s).powi(2)).sum::<f64>() / x.len() as f64).sqrt()
+}
+
+/// Pressure is the ball's contact load: full pressure doubles its force (+6 dB) and the
+/// object is linear, so after the one-chunk glide the output is exactly twice the neutral
+/// render (same seed, same impacts). A gesture naming another ball changes nothing.
+#[test]
+fn pressure_loads_the_contact_and_reaches_only_its_ball() {
+    let me = BallTarget {
+        voice_id: Some(11),
+        ..BallTarget::ALL
+    };
+    let (neutral, _) = expressed(None, 2.5);
+    let (pressed, allocs) = expressed(Some((me, Expression::Pressure(1.0))), 2.5);
+    assert_eq!(allocs, 0, "allocations while expressing");
+    let fs = 48_000;
+    let (a, b) = (fs / 2, fs / 2 + 64);
+    assert_eq!(&neutral[..a], &pressed[..a], "before the gesture");
+    // Once the object has rung out what it was struck with before the gesture (from 1 s:
+    // the default object's modes have fallen over 40 dB in 0.5 s), the output is twice the
+    // neutral one: the object and the DC blocker are linear. 0.5 % allows the ring's rest.
+    let tail = fs;
+    let ratio = rms(&pressed[tail..]) / rms(&neutral[tail..]);
+    println!(
+        "full pressure: {:.3} dB (ratio {ratio:.4})",
+        20.0 * ratio.log10()
+    );
+    assert!((ratio - 2.0).abs() < 0.01, "ratio {ratio}");
+    // Another channel, another voice id: bit-identical to no gesture.
+    let (other, _) = expressed(
+        Some((BallTarget::channel(4), Expression::Pressure(1.0))),
+        2.5,
+    );
+    assert_eq!(other, neutral);
+    let (other, _) = expressed(
+        Some((
+            BallTarget {
+                voice_id: Some(12),
+                ..BallTarget::ALL
+            },
+            Expression::Pressure(1.0),
+        )),
+        2.5,
+    );
+    assert_eq!(other, neutral);
+    // The glide has no step: no sample-to-sample jump over the gesture larger than the
+    // largest jump elsewhere in the neutral render, scaled by the gain (2×).
+    let max_jump = |x: &[f32]| {
+        x.windows(2)
+            .map(|w| (w[1] - w[0]).abs())
+            .fold(0.0f32, f32::max)
+    };
+    assert!(max_jump(&pressed[a - 64..b + 64]) <= 2.0 * max_jump(&neutral) + 1e-6);
+}
+
+/// Bending a ball up an octave doubles its speed: its loudness follows √V (docs/MODEL.md,
+/// TASLP eq 14), so the force rises by √2 (+3 dB) give or take the series' randomness
+/// (one seed, 1 s: ±1 dB). A timbre gesture (brightness → roughness) changes the sound.
+#[test]
+fn tuning_speeds_the_ball_and_timbre_roughens_it() {
+    let me = BallTarget::channel(3);
+    let (neutral, _) = expressed(None, 2.0);
+    let (bent, _) = expressed(Some((me, Expression::TuningSemitones(12.0))), 2.0);
+    let from = 48_000;
+    let db = 20.0 * (rms(&bent[from..]) / rms(&neutral[from..])).log10();
+    println!("an octave up: {db:+.2} dB");
+    assert!((1.5..4.5).contains(&db), "{db} dB");
+    let (rough, _) = expressed(Some((me, Expression::Brightness(1.0))), 2.0);
+    assert_ne!(rough[from..], neutral[from..]);
 }

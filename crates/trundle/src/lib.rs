@@ -44,6 +44,9 @@
 //! * **MIDI notes** start extra balls on the same object (`trundle_dsp::balls`): pitch →
 //!   ball size (C2 = the largest, S = 1; C7 = the smallest, S = 0.1), note velocity → ball
 //!   speed; note off rolls the ball to a halt; up to 16 at once (the oldest is reused).
+//!   Each ball follows its own gestures — CLAP note expressions, MPE, CLAP polyphonic
+//!   modulation of velocity, roughness and size ([`expression`]) — and its end is reported
+//!   to the host (CLAP note end).
 //!   Notes are applied at their exact sample position (the block is split there) and play
 //!   whether or not the transport runs — a keyboard is live.
 //! * **State**: see [`params`] — older states are migrated, newer or corrupt ones rejected
@@ -51,11 +54,12 @@
 
 use nice_plug::prelude::*;
 use std::sync::Arc;
-use trundle_dsp::events::{process_stereo_with_events, TimedEvent, VoiceEvent};
+use trundle_dsp::events::{process_stereo_with_events, TimedEvent};
 use trundle_dsp::limiter::{Limiter, Limiting};
 use trundle_dsp::{ParamId, Voice};
 
 pub mod editor;
+pub mod expression;
 pub mod meter;
 pub mod params;
 pub mod spectrum;
@@ -159,7 +163,8 @@ impl Plugin for Trundle {
         },
     ];
     const SAMPLE_ACCURATE_AUTOMATION: bool = true;
-    const MIDI_INPUT: MidiConfig = MidiConfig::Basic;
+    // MIDI CCs for MPE (channel pressure, pitch bend, CC 74 per channel: `expression`).
+    const MIDI_INPUT: MidiConfig = MidiConfig::MidiCCs;
 
     type SysExMessage = ();
     type BackgroundTask = ();
@@ -290,25 +295,14 @@ impl Plugin for Trundle {
         let step = 1.0 / (BYPASS_FADE_S * self.sample_rate).max(1.0);
         // Notes start or stop balls where they fall: the core's event loop splits
         // the block there (`trundle_dsp::events`).
+        let params = &self.params;
         let notes = next_event
             .into_iter()
             .chain(std::iter::from_fn(|| context.next_event()))
             .filter_map(|ev| {
-                let event = match ev {
-                    NoteEvent::NoteOn { key, velocity, .. } => VoiceEvent::NoteOn {
-                        note: key.number_or_middle_c(),
-                        velocity: f64::from(velocity),
-                    },
-                    NoteEvent::NoteOff { key, .. } | NoteEvent::Choke { key, .. } => {
-                        VoiceEvent::NoteOff {
-                            note: key.number_or_middle_c(),
-                        }
-                    }
-                    _ => return None,
-                };
                 Some(TimedEvent {
                     offset: ev.timing() as usize,
-                    event,
+                    event: expression::voice_event(&ev, params)?,
                 })
             });
         let bypass_gain = &mut self.bypass_gain;
@@ -374,6 +368,12 @@ impl Plugin for Trundle {
             });
             piece += len;
         }
+        // Balls that ended are reported, so a host's per-note modulation frees its voice.
+        let last = n.saturating_sub(1) as u32;
+        voice.drain_ended_balls(|id| {
+            // A full host queue drops the note end: the host frees the voice itself later.
+            let _ = context.try_send_event(expression::ended_event(id, last));
+        });
         self.meter
             .record(limiter.gain_reduction_db(), limiter.touched());
         ProcessStatus::KeepAlive
@@ -396,6 +396,11 @@ impl ClapPlugin for Trundle {
         Some("Rolling, rubbing and scratching sounds from a physically informed model");
     const CLAP_MANUAL_URL: Option<&'static str> = None;
     const CLAP_SUPPORT_URL: Option<&'static str> = None;
+    // Per-ball modulation of velocity, roughness and size (`expression`): one voice per ball.
+    const CLAP_POLY_MODULATION_CONFIG: Option<PolyModulationConfig> = Some(PolyModulationConfig {
+        max_voice_capacity: trundle_dsp::balls::MAX_BALLS as u32,
+        supports_overlapping_voices: true,
+    });
     const CLAP_FEATURES: &'static [ClapFeature] = &[
         ClapFeature::Instrument,
         ClapFeature::Synthesizer,

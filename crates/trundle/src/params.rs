@@ -156,8 +156,13 @@ fn make(spec: &'static ParamSpec) -> TableParam {
             } else {
                 FloatRange::Linear { min, max }
             };
+            let mut param = FloatParam::new(spec.name, spec.default as f32, range);
+            // Size, velocity and roughness are each ball's own: CLAP poly modulation.
+            if let Some(id) = crate::expression::poly_modulation_id(spec.key) {
+                param = param.with_poly_modulation_id(id);
+            }
             TableParam::Float(
-                FloatParam::new(spec.name, spec.default as f32, range)
+                param
                     // Quantized to the text's resolution, so every value reads back exactly.
                     .with_step_size(spec.step() as f32)
                     .with_value_to_string(Arc::new(move |v| spec.format(f64::from(v))))
