@@ -55,10 +55,13 @@ use trundle_dsp::events::{process_stereo_with_events, TimedEvent, VoiceEvent};
 use trundle_dsp::limiter::{Limiter, Limiting};
 use trundle_dsp::{ParamId, Voice};
 
+pub mod compare;
 pub mod editor;
 pub mod meter;
 pub mod params;
+pub mod randomize;
 pub mod spectrum;
+pub mod user_presets;
 
 use meter::LimiterMeter;
 use params::TrundleParams;

@@ -204,7 +204,7 @@ impl TrundleEditor {
         p.text(
             rect.left_center(),
             Align2::LEFT_CENTER,
-            "drag knobs up/down  ·  shift = fine  ·  double-click = default  ·  hover for help",
+            "drag = turn  ·  shift = fine  ·  double-click = type a value  ·  ctrl/alt-click = default  ·  hover = help",
             FontId::proportional(t.font_small * 0.95),
             TEXT_DIM,
         );

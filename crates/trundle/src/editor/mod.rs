@@ -34,6 +34,7 @@ mod disks;
 mod header;
 mod layout;
 mod panels;
+mod text_entry;
 mod theme;
 mod widgets;
 
