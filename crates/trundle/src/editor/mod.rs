@@ -30,10 +30,12 @@
 //!   [`SpectrumTap`] — only while the window is open, with buffers allocated once (the
 //!   one per-frame allocation is the shape handed to egui, which takes ownership of it).
 
+mod browser;
 mod disks;
 mod header;
 mod layout;
 mod panels;
+mod snapshot;
 mod text_entry;
 mod theme;
 mod widgets;
@@ -41,9 +43,12 @@ mod widgets;
 use layout::*;
 use theme::*;
 
+use crate::compare::AbCompare;
 use crate::meter::{Ballistics, LimiterMeter};
 use crate::params::{to_plugin_value, TableParam, TrundleParams};
+use crate::randomize::Locks;
 use crate::spectrum::{SpectrumAnalyzer, SpectrumTap, COLUMNS, F_LO_HZ};
+use crate::user_presets::{Listing, PresetStore};
 use egui::{Align2, Color32, FontId, Id, Pos2, Rect, Sense, Stroke, UiBuilder, Vec2};
 use nice_plug::context::gui::GuiContext;
 use nice_plug::editor::SizeConstraints;
@@ -51,7 +56,7 @@ use nice_plug::prelude::*;
 use nice_plug_egui::{create_egui_editor, EguiEditor, EguiNiceSettings, NiceEguiApp};
 use std::sync::Arc;
 use trundle_dsp::preset::{Preset, BUILTIN_PRESETS};
-use trundle_dsp::{ParamId, PARAMS};
+use trundle_dsp::{ParamId, Params, PARAMS};
 
 /// The design size (logical points): at this size the scale factor is 1.
 const DESIGN_W: f32 = 880.0;
@@ -70,9 +75,20 @@ pub struct TrundleEditor {
     reduction: Ballistics,
     gui: Option<GuiContext>,
     analyzer: SpectrumAnalyzer,
+    /// The built-in presets.
     presets: Vec<Preset>,
-    /// The preset last loaded from the menu (an index into `presets`).
-    loaded: Option<usize>,
+    /// The user preset directory (`None` on a system without a user data directory).
+    store: Option<PresetStore>,
+    /// The user presets, as last read from `store`.
+    user: Listing,
+    /// The preset last loaded.
+    loaded: Option<snapshot::Loaded>,
+    /// The preset browser's state.
+    browser: browser::Browser,
+    /// The A/B compare slots.
+    ab: AbCompare,
+    /// The groups randomize leaves alone.
+    locks: Locks,
     /// The scale the egui style was last sized for.
     styled_scale: f32,
     /// Table rows this editor has no designed place for (rows added to the table after the
@@ -117,7 +133,8 @@ const PLACED: [ParamId; 27] = [
 ///
 /// # Allocation
 /// Allocates the spectrum analyser and parses the built-in presets; called by the wrapper on
-/// the main thread, never on the audio thread.
+/// the main thread, never on the audio thread. The user preset directory is read when the
+/// browser opens, on the GUI thread.
 pub fn create(
     params: Arc<TrundleParams>,
     tap: Arc<SpectrumTap>,
@@ -135,7 +152,12 @@ pub fn create(
         gui: None,
         analyzer: SpectrumAnalyzer::new(),
         presets,
+        store: PresetStore::default_dir().map(PresetStore::new),
+        user: Listing::default(),
         loaded: None,
+        browser: browser::Browser::default(),
+        ab: AbCompare::default(),
+        locks: Locks::default(),
         styled_scale: 0.0,
         extra: PARAMS
             .iter()
@@ -216,6 +238,13 @@ impl NiceEguiApp for TrundleEditor {
         ui.painter().rect_filled(full, 0.0, BG);
 
         self.header(ui, l.header, &setter, &t);
+
+        if self.browser.open {
+            let body = Rect::from_min_max(l.action.min, l.output.max);
+            self.browser(ui, body, &setter, &t);
+            self.footer(ui, l.footer, &gui, &t);
+            return;
+        }
 
         let body = panel(ui, l.action, "ACTION", None, &t);
         self.action_disk(ui, body, &setter, &t);

@@ -514,6 +514,42 @@ pub fn button(ui: &mut egui::Ui, rect: Rect, id: Id, text: &str, t: &Theme) -> R
     resp
 }
 
+/// A small flat button with `text` that is lit (accent fill) while `on`: one of a set of
+/// exclusive choices that are actions rather than parameter values (the compare slots).
+pub fn tab_button(
+    ui: &mut egui::Ui,
+    rect: Rect,
+    id: Id,
+    text: &str,
+    on: bool,
+    t: &Theme,
+) -> Response {
+    let resp = ui.interact(rect, id, Sense::click());
+    let painter = ui.painter_at(rect.expand(1.0));
+    let fill = if on {
+        t.accent
+    } else if resp.hovered() {
+        t.well_hi
+    } else {
+        t.well
+    };
+    painter.rect(
+        rect,
+        t.radius_small(),
+        fill,
+        Stroke::new(1.0, if on { t.accent } else { t.border }),
+        egui::StrokeKind::Inside,
+    );
+    painter.text(
+        rect.center(),
+        Align2::CENTER_CENTER,
+        text,
+        FontId::proportional(t.font_small),
+        if on { t.on_accent } else { t.text },
+    );
+    resp
+}
+
 /// A small flat button with a triangle pointing right (`right`) or left.
 pub fn arrow_button(ui: &mut egui::Ui, rect: Rect, id: Id, right: bool, t: &Theme) -> Response {
     let resp = button(ui, rect, id, "", t);
