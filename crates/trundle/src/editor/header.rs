@@ -83,7 +83,6 @@ impl TrundleEditor {
         t: &Theme,
     ) {
         let list = self.loadable();
-        let live = self.live_params();
         let loaded_matches = self
             .loaded
             .as_ref()
@@ -129,7 +128,7 @@ impl TrundleEditor {
         let selected = match (&current, &self.loaded) {
             (Some((_, name)), _) => name.clone(),
             (None, Some(l)) => format!("{} (edited)", l.name),
-            (None, None) if live == Params::default() => "Defaults".to_string(),
+            (None, None) if self.live_equals(&Params::default()) => "Defaults".to_string(),
             (None, None) => "Custom".to_string(),
         };
         let label = format!("{selected}  {}", if self.browser.open { "▴" } else { "▾" });
@@ -253,7 +252,7 @@ impl TrundleEditor {
         p.text(
             rect.left_center(),
             Align2::LEFT_CENTER,
-            "drag = turn  ·  shift = fine  ·  double-click = type a value  ·  ctrl/alt-click = default  ·  hover = help",
+            "drag · shift = fine  ·  double-click = type a value  ·  ctrl/alt-click = default  ·  hover = help",
             FontId::proportional(t.font_small * 0.95),
             TEXT_DIM,
         );

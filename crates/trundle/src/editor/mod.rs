@@ -1,9 +1,9 @@
 //! The editor (nice-plug-egui): the action and material disks, the ball's position on the
 //! object, a live spectrum, rotary knobs and selectors for the ball, the object and the
-//! output, and a preset menu.
+//! output, and in the header the A/B compare, randomize and the preset browser.
 //!
 //! ```text
-//! ┌ TRUNDLE  rolling · rubbing · scratching          ◀ [preset ▾] ▶   (BYPASS) ┐
+//! ┌ TRUNDLE  tagline   [A][B][A→B] [RANDOM][▾]   ◀ [preset ▾] ▶       (BYPASS) ┐
 //! ├ ACTION ──────┬ MATERIAL ────┬ POSITION ─────┬ OUTPUT SPECTRUM ────────────┤
 //! │ rub·scratch· │ wood·metal·  │ ball + ear on │ log frequency, dBFS grid    │
 //! │ roll disk    │ glass disk   │ the object,   │                             │
@@ -20,7 +20,15 @@
 //!   radii) is multiplied by one scale factor, `min(width / 880, height / 600)`, so the
 //!   editor scales as the host resizes it and keeps its proportions.
 //! * Every change goes through nice-plug's `ParamSetter` with begin/set/end gestures (see
-//!   `editor/widgets.rs`), so host automation recording works.
+//!   `editor/widgets.rs`), so host automation recording works. Double-click types a value
+//!   (`editor/text_entry.rs`), ctrl/cmd- or alt-click resets, on every control.
+//! * The preset name opens the browser (`editor/browser.rs`) in place of the body: built-in
+//!   and user presets (`crate::user_presets`), filtered by name and tag. A/B compare
+//!   (`crate::compare`) and randomize (`crate::randomize`) change the whole sound through
+//!   `editor/snapshot.rs`, each changed parameter a host gesture.
+//! * HiDPI: everything is in logical points; egui's pixels per point are the window's scale
+//!   factor (the host's `set_scale` / the system's, through nice-plug-egui and baseview),
+//!   never overridden here. The layout scale below comes on top of it.
 //! * Table rows added after this layout was drawn are not lost: they appear with generic
 //!   controls on a second page ("MORE") until they get a designed place.
 //! * The limiter's gain reduction comes from the audio thread's lock-free [`LimiterMeter`]
@@ -134,7 +142,7 @@ const PLACED: [ParamId; 27] = [
 /// # Allocation
 /// Allocates the spectrum analyser and parses the built-in presets; called by the wrapper on
 /// the main thread, never on the audio thread. The user preset directory is read when the
-/// browser opens, on the GUI thread.
+/// window opens and when the browser opens, on the GUI thread.
 pub fn create(
     params: Arc<TrundleParams>,
     tap: Arc<SpectrumTap>,
@@ -214,6 +222,8 @@ impl NiceEguiApp for TrundleEditor {
         egui_ctx.set_visuals(visuals);
         self.styled_scale = 0.0;
         self.gui = Some(nice_gui_ctx);
+        // The user presets, for the arrows (the window's thread, as it opens).
+        self.refresh_user_presets();
         Ok(())
     }
 

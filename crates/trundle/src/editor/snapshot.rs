@@ -23,15 +23,17 @@ pub(super) struct Loaded {
 }
 
 impl TrundleEditor {
-    /// The live (unmodulated) table values, floats on their step grid (so a saved preset
-    /// reads "0.73", not the f32's "0.7300000190734863").
+    /// The live (unmodulated) table values, floats rounded to their text's decimals (the
+    /// plugin's step), so a saved preset reads "0.73", not the f32's "0.7300000190734863".
     pub(super) fn live_params(&self) -> Params {
         let mut out = Params::default();
         for spec in PARAMS.iter() {
             let v = match self.params.get(spec.id) {
                 TableParam::Float(p) => {
-                    let step = spec.step();
-                    (f64::from(p.unmodulated_plain_value()) / step).round() * step
+                    // Through the text's decimals: the shortest f64 of the shown value.
+                    let v = f64::from(p.unmodulated_plain_value());
+                    let d = spec.decimals();
+                    format!("{v:.d$}").parse().unwrap_or(v)
                 }
                 TableParam::Int(p) => f64::from(p.unmodulated_plain_value()),
             };
