@@ -131,8 +131,29 @@ impl TrundleEditor {
             (None, None) if self.live_equals(&Params::default()) => "Defaults".to_string(),
             (None, None) => "Custom".to_string(),
         };
-        let label = format!("{selected}  {}", if self.browser.open { "▴" } else { "▾" });
-        if widgets::button(ui, combo, Id::unique("preset_browser"), &label, t)
+        let s = t.scale;
+        // The name, shrunk to leave room for the triangle.
+        let text_rect = Rect::from_min_max(
+            combo.min,
+            Pos2::new(combo.right() - 18.0 * s, combo.bottom()),
+        );
+        let resp = widgets::button(ui, combo, Id::unique("preset_browser"), "", t);
+        let colour = if self.browser.open { ACCENT } else { TEXT };
+        let p = ui.painter_at(combo);
+        let mut galley =
+            p.layout_no_wrap(selected.clone(), FontId::proportional(t.font_small), colour);
+        if galley.size().x > text_rect.width() - 8.0 * s {
+            let k = ((text_rect.width() - 8.0 * s) / galley.size().x).max(0.6);
+            galley = p.layout_no_wrap(selected, FontId::proportional(t.font_small * k), colour);
+        }
+        p.galley(text_rect.center() - 0.5 * galley.size(), galley, colour);
+        widgets::down_triangle(
+            &p,
+            Pos2::new(combo.right() - 11.0 * s, combo.center().y),
+            0.45 * t.font_small,
+            colour,
+        );
+        if resp
             .on_hover_text("Browse, filter, save, rename, tag and delete presets")
             .clicked()
         {
@@ -164,8 +185,36 @@ impl TrundleEditor {
             }
         }
         let active = self.ab.active();
-        let copy_label = format!("{}→{}", active.name(), active.other().name());
-        if widgets::button(ui, copy, Id::unique("ab_copy"), &copy_label, t)
+        let copy_resp = widgets::button(ui, copy, Id::unique("ab_copy"), "", t);
+        {
+            // "A → B" (or "B → A"), the arrow drawn.
+            let p = ui.painter_at(copy);
+            let font = FontId::proportional(t.font_small);
+            let y = copy.center().y;
+            let w = copy.width();
+            p.text(
+                Pos2::new(copy.left() + 0.2 * w, y),
+                Align2::CENTER_CENTER,
+                active.name(),
+                font.clone(),
+                TEXT,
+            );
+            p.text(
+                Pos2::new(copy.right() - 0.2 * w, y),
+                Align2::CENTER_CENTER,
+                active.other().name(),
+                font,
+                TEXT,
+            );
+            widgets::right_arrow(
+                &p,
+                Pos2::new(copy.left() + 0.36 * w, y),
+                Pos2::new(copy.right() - 0.36 * w, y),
+                TEXT_DIM,
+                t,
+            );
+        }
+        if copy_resp
             .on_hover_text(format!(
                 "Copy the current sound (slot {}) into slot {}",
                 active.name(),
@@ -197,8 +246,15 @@ impl TrundleEditor {
         {
             self.randomize(setter);
         }
-        let locks_resp = widgets::button(ui, locks, Id::unique("randomize_locks"), "▾", t)
+        let locks_resp = widgets::button(ui, locks, Id::unique("randomize_locks"), "", t)
             .on_hover_text("Lock groups that randomize leaves alone");
+        let any_locked = Group::ALL.iter().any(|g| self.locks.locked(*g));
+        widgets::down_triangle(
+            ui.painter(),
+            locks.center(),
+            0.45 * t.font_small,
+            if any_locked { ACCENT } else { TEXT },
+        );
         egui::Popup::menu(&locks_resp)
             .close_behavior(egui::PopupCloseBehavior::CloseOnClickOutside)
             .show(|ui| {

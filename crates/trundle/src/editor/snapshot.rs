@@ -22,6 +22,17 @@ pub(super) struct Loaded {
     pub(super) params: Params,
 }
 
+/// Whether a parameter holding `have` holds the table value `want`: equal up to the
+/// plugin's step (a float is snapped to its step, so `action_y` = −√3/2 is held as −0.866)
+/// and f32 rounding.
+pub(super) fn holds(spec: &trundle_dsp::params::ParamSpec, want: f64, have: f64) -> bool {
+    let tolerance = match spec.kind {
+        trundle_dsp::params::ParamKind::Float { .. } => 0.5 * spec.step(),
+        _ => 0.0,
+    };
+    (want - have).abs() <= tolerance + 1e-5 * (spec.max - spec.min)
+}
+
 impl TrundleEditor {
     /// The live (unmodulated) table values, floats rounded to their text's decimals (the
     /// plugin's step), so a saved preset reads "0.73", not the f32's "0.7300000190734863".
@@ -46,8 +57,7 @@ impl TrundleEditor {
     pub(super) fn live_equals(&self, target: &Params) -> bool {
         PARAMS.iter().all(|spec| {
             let (want, _) = to_plugin_value(spec, target.get(spec.id));
-            let have = self.params.get(spec.id).value();
-            (want - have).abs() <= 1e-5 * (spec.max - spec.min)
+            holds(spec, want, self.params.get(spec.id).value())
         })
     }
 
@@ -63,15 +73,13 @@ impl TrundleEditor {
             }
             match self.params.get(spec.id) {
                 TableParam::Float(p) => {
-                    let v = spec.quantize(v as f32);
-                    if p.unmodulated_plain_value() != v {
-                        widgets::set_once(setter, p, v);
+                    if !holds(spec, v, f64::from(p.unmodulated_plain_value())) {
+                        widgets::set_once(setter, p, spec.quantize(v as f32));
                     }
                 }
                 TableParam::Int(p) => {
-                    let v = v.round() as i32;
-                    if p.unmodulated_plain_value() != v {
-                        widgets::set_once(setter, p, v);
+                    if !holds(spec, v, f64::from(p.unmodulated_plain_value())) {
+                        widgets::set_once(setter, p, v.round() as i32);
                     }
                 }
             }
@@ -92,5 +100,48 @@ impl TrundleEditor {
             .map_or(0, |d| d.as_nanos() as u64);
         let target = randomize(&self.live_params(), &self.locks, &mut Rng::new(seed));
         self.apply(&target, setter, "randomize");
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::params::TrundleParams;
+
+    #[test]
+    fn every_builtin_preset_reads_as_itself_once_loaded() {
+        // What a parameter holds after `apply`: the value snapped to its step through the
+        // normalized value the host sees. The "(edited)" mark must not appear right after a
+        // load (the default action_y, −√3/2, is off the step grid).
+        let params = TrundleParams::default();
+        for (stem, json) in BUILTIN_PRESETS.iter() {
+            let preset = Preset::from_json(json).unwrap();
+            for spec in PARAMS.iter() {
+                let (v, _) = to_plugin_value(spec, preset.params.get(spec.id));
+                let held = match params.get(spec.id) {
+                    TableParam::Float(p) => {
+                        f64::from(p.preview_plain(p.preview_normalized(spec.quantize(v as f32))))
+                    }
+                    TableParam::Int(p) => {
+                        f64::from(p.preview_plain(p.preview_normalized(v.round() as i32)))
+                    }
+                };
+                assert!(
+                    holds(spec, v, held),
+                    "{stem}: {} {v} held as {held}",
+                    spec.key
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn a_changed_value_is_not_held() {
+        let spec = ParamId::Velocity.spec();
+        assert!(holds(spec, 0.5, 0.5));
+        assert!(!holds(spec, 0.5, 0.501));
+        let modes = ParamId::Modes.spec();
+        assert!(holds(modes, 32.0, 32.0));
+        assert!(!holds(modes, 32.0, 33.0));
     }
 }

@@ -107,12 +107,18 @@ pub fn show<P: Param>(
         return false;
     };
     let edit_id = id.with("text_entry_field");
+    // At least room for a value with its unit ("0.500 m/s"), centred on the value.
+    let rect = Rect::from_center_size(
+        rect.center(),
+        egui::Vec2::new(rect.width().max(7.5 * t.font_value), rect.height()),
+    );
     let output = egui::TextEdit::singleline(&mut entry.text)
         .id(edit_id)
         .font(FontId::proportional(t.font_value))
         .align(Align2::CENTER_CENTER)
         .desired_width(rect.width())
         .char_limit(64)
+        .margin(egui::Margin::symmetric(2, 1))
         .show(&mut ui.new_child(egui::UiBuilder::new().max_rect(rect)));
     let resp = output.response.response;
     if !entry.started {

@@ -550,6 +550,39 @@ pub fn tab_button(
     resp
 }
 
+/// A small solid triangle pointing down, centred on `c`, `h` high (egui's default fonts
+/// have no "▾").
+pub fn down_triangle(painter: &egui::Painter, c: Pos2, h: f32, colour: Color32) {
+    painter.add(egui::Shape::convex_polygon(
+        vec![
+            c + Vec2::new(-0.6 * h, -0.5 * h),
+            c + Vec2::new(0.6 * h, -0.5 * h),
+            c + Vec2::new(0.0, 0.5 * h),
+        ],
+        colour,
+        Stroke::NONE,
+    ));
+}
+
+/// A small solid arrow pointing right from `from` to `to` (egui's default fonts have no
+/// "→").
+pub fn right_arrow(painter: &egui::Painter, from: Pos2, to: Pos2, colour: Color32, t: &Theme) {
+    let head = 0.3 * t.font_small;
+    painter.line_segment(
+        [from, to - Vec2::new(head, 0.0)],
+        Stroke::new((0.12 * t.font_small).max(1.0), colour),
+    );
+    painter.add(egui::Shape::convex_polygon(
+        vec![
+            to,
+            to + Vec2::new(-1.4 * head, -head),
+            to + Vec2::new(-1.4 * head, head),
+        ],
+        colour,
+        Stroke::NONE,
+    ));
+}
+
 /// A small flat button with a triangle pointing right (`right`) or left.
 pub fn arrow_button(ui: &mut egui::Ui, rect: Rect, id: Id, right: bool, t: &Theme) -> Response {
     let resp = button(ui, rect, id, "", t);
