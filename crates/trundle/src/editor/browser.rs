@@ -261,9 +261,11 @@ impl TrundleEditor {
                         let selected = self.browser.selected.as_ref() == Some(&row.source);
                         let is_current = current.as_ref() == Some(&row.source);
                         let mut name = RichText::new(row.name.as_str());
+                        // (A selected row is drawn on the accent: its text keeps egui's
+                        // contrasting colour.)
                         if !row.loadable {
                             name = name.color(ERROR_COLOUR);
-                        } else if is_current {
+                        } else if is_current && !selected {
                             name = name.color(ACCENT);
                         }
                         let visible_tags: Vec<&str> = row.tags.iter().map(String::as_str).collect();
