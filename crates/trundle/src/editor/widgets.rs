@@ -370,7 +370,8 @@ pub fn toggle(
 }
 
 /// A pill-shaped switch for a two-valued integer `param` (an off/on enumeration: 0 = off,
-/// 1 = on) showing `label`; lit in `on_colour` when on. A click is one gesture.
+/// 1 = on) showing `label`; lit in `on_colour` when on. A click is one gesture; ctrl/cmd-
+/// or alt-click sets the default.
 pub fn int_toggle(
     ui: &mut egui::Ui,
     rect: Rect,
@@ -384,7 +385,17 @@ pub fn int_toggle(
     let resp = ui.interact(rect, id, Sense::click());
     let on = param.unmodulated_plain_value() != 0;
     if resp.clicked() {
-        set_once(setter, param, if on { 0 } else { 1 });
+        // Like a selector: ctrl/cmd- or alt-click gives the default.
+        let target = if reset_modifier(ui) {
+            param.default_plain_value()
+        } else if on {
+            0
+        } else {
+            1
+        };
+        if target != param.unmodulated_plain_value() {
+            set_once(setter, param, target);
+        }
     }
     pill(
         ui,
