@@ -58,11 +58,14 @@ use trundle_dsp::events::{process_stereo_with_events, TimedEvent};
 use trundle_dsp::limiter::{Limiter, Limiting};
 use trundle_dsp::{ParamId, Voice};
 
+pub mod compare;
 pub mod editor;
 pub mod expression;
 pub mod meter;
 pub mod params;
+pub mod randomize;
 pub mod spectrum;
+pub mod user_presets;
 
 use meter::LimiterMeter;
 use params::TrundleParams;

@@ -147,7 +147,7 @@ pub(super) struct DiskSpec<'a> {
 /// An interactive disk pad for a pair of parameters (x right, y up, inside the unit disk),
 /// anchors at angles 0, 2π/3, 4π/3, shaded by the disk's blend weights, with the weights
 /// as its caption. Press starts one gesture on both parameters, dragging sets them, release
-/// ends it; double-click resets both to their defaults.
+/// ends it; double-click or ctrl/cmd- or alt-click resets both to their defaults.
 pub(super) fn xy_disk(ui: &mut egui::Ui, body: Rect, setter: &ParamSetter, t: &Theme, d: DiskSpec) {
     let (px, py) = (d.x, d.y);
     let (c, r, caption_y) = pad_geometry(body, t);
@@ -164,7 +164,15 @@ pub(super) fn xy_disk(ui: &mut egui::Ui, body: Rect, setter: &ParamSetter, t: &T
         setter.begin_set_parameter(py);
         active = true;
     }
-    if active && down {
+    if active && down && widgets::reset_modifier(ui) {
+        // Ctrl/cmd- or alt-click: the defaults, held while the button is.
+        if px.unmodulated_plain_value() != px.default_plain_value() {
+            setter.set_parameter(px, px.default_plain_value());
+        }
+        if py.unmodulated_plain_value() != py.default_plain_value() {
+            setter.set_parameter(py, py.default_plain_value());
+        }
+    } else if active && down {
         if let Some(pos) = resp.interact_pointer_pos() {
             let mut v = (pos - c) / r;
             if v.length() > 1.0 {
@@ -230,8 +238,8 @@ pub(super) fn xy_disk(ui: &mut egui::Ui, body: Rect, setter: &ParamSetter, t: &T
 
 /// The object seen from above (x right, y up, ±1 at the edges) with two draggable points:
 /// `points[0]` the ball (accent) and `points[1]` the listening point (ring). A press takes
-/// the nearer point and starts one gesture on its two parameters; a double-click resets
-/// it. The trajectory through the ball's point is drawn dashed; `enabled` false (amount 0)
+/// the nearer point and starts one gesture on its two parameters; a double-click or a
+/// ctrl/cmd- or alt-click resets it. The trajectory through the ball's point is drawn dashed; `enabled` false (amount 0)
 /// dims the points and says the position is off.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn xy_square(
@@ -283,7 +291,16 @@ pub(super) fn xy_square(
             setter.begin_set_parameter(py);
         }
     }
-    if held > 0 && down {
+    if held > 0 && down && widgets::reset_modifier(ui) {
+        // Ctrl/cmd- or alt-click: the held point's defaults.
+        let (px, py) = points[held - 1];
+        if px.unmodulated_plain_value() != px.default_plain_value() {
+            setter.set_parameter(px, px.default_plain_value());
+        }
+        if py.unmodulated_plain_value() != py.default_plain_value() {
+            setter.set_parameter(py, py.default_plain_value());
+        }
+    } else if held > 0 && down {
         if let Some(pos) = resp.interact_pointer_pos() {
             let (px, py) = points[held - 1];
             let (x, y) = from_screen(pos);

@@ -1,6 +1,7 @@
 //! The header (title, preset menu, bypass), the page tabs and the footer.
 
 use super::*;
+use egui::RichText;
 
 impl TrundleEditor {
     pub(super) fn header(
@@ -11,34 +12,27 @@ impl TrundleEditor {
         t: &Theme,
     ) {
         let s = t.scale;
-        let p = ui.painter();
         let mid = rect.center().y;
-        let mark = p.text(
+        let mark = ui.painter().text(
             Pos2::new(rect.left() + 2.0 * s, mid),
             Align2::LEFT_CENTER,
             spaced("TRUNDLE"),
             FontId::proportional(24.0 * s),
             TEXT,
         );
-        p.circle_filled(
+        ui.painter().circle_filled(
             Pos2::new(mark.right() + 10.0 * s, mid + 1.0 * s),
             3.5 * s,
             ACCENT,
         );
-        p.text(
-            Pos2::new(mark.right() + 22.0 * s, mid + 1.0 * s),
-            Align2::LEFT_CENTER,
-            "rolling · rubbing · scratching",
-            FontId::proportional(12.5 * s),
-            TEXT_DIM,
-        );
 
-        // Right to left: bypass, next, preset menu, previous.
+        // Right to left: bypass, next, preset button, previous, then the compare slots and
+        // randomize.
         let h = 24.0 * s;
-        let bypass = Rect::from_min_size(
-            Pos2::new(rect.right() - 96.0 * s, mid - 0.5 * h),
-            Vec2::new(96.0 * s, h),
-        );
+        let at = |right: f32, w: f32| {
+            Rect::from_min_size(Pos2::new(right - w, mid - 0.5 * h), Vec2::new(w, h))
+        };
+        let bypass = at(rect.right(), 96.0 * s);
         widgets::toggle(
             ui,
             bypass,
@@ -50,115 +44,225 @@ impl TrundleEditor {
         )
         .on_hover_text("Fades the output out (and back in) over 10 ms");
         let arrow_w = 24.0 * s;
-        let next = Rect::from_min_size(
-            Pos2::new(bypass.left() - 18.0 * s - arrow_w, mid - 0.5 * h),
-            Vec2::new(arrow_w, h),
-        );
-        let combo_w = 250.0 * s;
-        let combo = Rect::from_min_size(
-            Pos2::new(next.left() - 4.0 * s - combo_w, mid - 0.5 * h),
-            Vec2::new(combo_w, h),
-        );
-        let prev = Rect::from_min_size(
-            Pos2::new(combo.left() - 4.0 * s - arrow_w, mid - 0.5 * h),
-            Vec2::new(arrow_w, h),
-        );
-        widgets::caption(
-            ui,
-            Pos2::new(prev.left() - 8.0 * s, mid),
-            Align2::RIGHT_CENTER,
-            "PRESET",
-            t,
-        );
-        let n = self.presets.len();
-        let current = self.current_preset();
+        let next = at(bypass.left() - 18.0 * s, arrow_w);
+        let combo = at(next.left() - 4.0 * s, 220.0 * s);
+        let prev = at(combo.left() - 4.0 * s, arrow_w);
+        self.preset_selector(ui, [prev, combo, next], setter, t);
+
+        let locks = at(prev.left() - 16.0 * s, 22.0 * s);
+        let random = at(locks.left() - 2.0 * s, 66.0 * s);
+        let copy = at(random.left() - 12.0 * s, 40.0 * s);
+        let b = at(copy.left() - 4.0 * s, 24.0 * s);
+        let a = at(b.left() - 2.0 * s, 24.0 * s);
+        self.compare_and_randomize([a, b, copy, random, locks], setter, ui, t);
+
+        // The tagline where the window leaves room for it.
+        let tagline = "rolling · rubbing · scratching";
+        let font = FontId::proportional(12.5 * s);
+        let galley = ui
+            .painter()
+            .layout_no_wrap(tagline.to_string(), font.clone(), TEXT_DIM);
+        let x = mark.right() + 22.0 * s;
+        if x + galley.size().x + 12.0 * s < a.left() {
+            ui.painter().text(
+                Pos2::new(x, mid + 1.0 * s),
+                Align2::LEFT_CENTER,
+                tagline,
+                font,
+                TEXT_DIM,
+            );
+        }
+    }
+
+    /// The preset arrows and the button showing the preset's name that opens the browser.
+    fn preset_selector(
+        &mut self,
+        ui: &mut egui::Ui,
+        [prev, combo, next]: [Rect; 3],
+        setter: &ParamSetter,
+        t: &Theme,
+    ) {
+        let list = self.loadable();
+        let loaded_matches = self
+            .loaded
+            .as_ref()
+            .is_some_and(|l| self.live_equals(&l.params));
+        let builtin_match = || {
+            self.presets
+                .iter()
+                .position(|p| self.live_equals(&p.params))
+        };
+        let current: Option<(snapshot::PresetRef, String)> = if loaded_matches {
+            self.loaded
+                .as_ref()
+                .map(|l| (l.source.clone(), l.name.clone()))
+        } else {
+            builtin_match().map(|i| {
+                (
+                    snapshot::PresetRef::Builtin(i),
+                    self.presets[i].name.clone(),
+                )
+            })
+        };
+        let n = list.len();
         if n > 0 {
-            let from = current.or(self.loaded);
+            let from = current
+                .as_ref()
+                .map(|c| &c.0)
+                .or(self.loaded.as_ref().map(|l| &l.source))
+                .and_then(|src| list.iter().position(|r| r == src));
             let step = |d: usize| from.map_or(0, |i| (i + d) % n);
             if widgets::arrow_button(ui, prev, Id::unique("preset_prev"), false, t)
-                .on_hover_text("Previous preset")
+                .on_hover_text("Previous preset (built-in, then yours)")
                 .clicked()
             {
-                self.load_preset(step(n - 1), setter);
+                self.load(&list[step(n - 1)], setter);
             }
             if widgets::arrow_button(ui, next, Id::unique("preset_next"), true, t)
-                .on_hover_text("Next preset")
+                .on_hover_text("Next preset (built-in, then yours)")
                 .clicked()
             {
-                self.load_preset(step(1), setter);
+                self.load(&list[step(1)], setter);
             }
         }
-        let at_defaults = || {
-            PARAMS.iter().all(|spec| {
-                (self.params.get(spec.id).value() - spec.default).abs()
-                    <= 1e-5 * (spec.max - spec.min)
-            })
-        };
-        let selected = match (current, self.loaded) {
-            (Some(i), _) => self.presets[i].name.clone(),
-            (None, Some(i)) => format!("{} (edited)", self.presets[i].name),
-            (None, None) if at_defaults() => "Defaults".to_string(),
+        let selected = match (&current, &self.loaded) {
+            (Some((_, name)), _) => name.clone(),
+            (None, Some(l)) => format!("{} (edited)", l.name),
+            (None, None) if self.live_equals(&Params::default()) => "Defaults".to_string(),
             (None, None) => "Custom".to_string(),
         };
-        let mut chosen = None;
-        ui.scope_builder(UiBuilder::new().max_rect(combo), |ui| {
-            egui::ComboBox::from_id_salt("preset")
-                .selected_text(selected)
-                .width(combo_w)
-                .height(480.0 * s)
-                .show_ui(ui, |ui| {
-                    for (i, preset) in self.presets.iter().enumerate() {
-                        if ui
-                            .selectable_label(current == Some(i), preset.name.as_str())
-                            .on_hover_text(preset.description.as_str())
-                            .clicked()
-                        {
-                            chosen = Some(i);
-                        }
-                    }
-                });
-        });
-        if let Some(i) = chosen {
-            self.load_preset(i, setter);
+        let s = t.scale;
+        // The name, shrunk to leave room for the triangle.
+        let text_rect = Rect::from_min_max(
+            combo.min,
+            Pos2::new(combo.right() - 18.0 * s, combo.bottom()),
+        );
+        let resp = widgets::button(ui, combo, Id::unique("preset_browser"), "", t);
+        let colour = if self.browser.open { ACCENT } else { TEXT };
+        let p = ui.painter_at(combo);
+        let mut galley =
+            p.layout_no_wrap(selected.clone(), FontId::proportional(t.font_small), colour);
+        if galley.size().x > text_rect.width() - 8.0 * s {
+            let k = ((text_rect.width() - 8.0 * s) / galley.size().x).max(0.6);
+            galley = p.layout_no_wrap(selected, FontId::proportional(t.font_small * k), colour);
+        }
+        p.galley(text_rect.center() - 0.5 * galley.size(), galley, colour);
+        widgets::down_triangle(
+            &p,
+            Pos2::new(combo.right() - 11.0 * s, combo.center().y),
+            0.45 * t.font_small,
+            colour,
+        );
+        if resp
+            .on_hover_text("Browse, filter, save, rename, tag and delete presets")
+            .clicked()
+        {
+            self.toggle_browser();
         }
     }
 
-    /// The built-in preset the parameters currently equal, if any.
-    pub(super) fn current_preset(&self) -> Option<usize> {
-        let matches = |preset: &Preset| {
-            PARAMS.iter().all(|spec| {
-                // What loading the preset gives (a `reference` quality loads as `ultra`).
-                let (want, _) = to_plugin_value(spec, preset.params.get(spec.id));
-                let have = self.params.get(spec.id).value();
-                (want - have).abs() <= 1e-5 * (spec.max - spec.min)
-            })
-        };
-        if let Some(i) = self.loaded {
-            if matches(&self.presets[i]) {
-                return Some(i);
+    /// The A/B compare buttons, the copy button, randomize and its locks menu.
+    fn compare_and_randomize(
+        &mut self,
+        [a, b, copy, random, locks]: [Rect; 5],
+        setter: &ParamSetter,
+        ui: &mut egui::Ui,
+        t: &Theme,
+    ) {
+        use crate::compare::Slot;
+        use crate::randomize::Group;
+        for (slot, r) in [(Slot::A, a), (Slot::B, b)] {
+            let on = self.ab.active() == slot;
+            let resp =
+                widgets::tab_button(ui, r, Id::unique(("ab", slot.name())), slot.name(), on, t)
+                    .on_hover_text(format!(
+                        "Compare slot {}: switching stores the current sound in the other slot \
+                     and recalls this one (each change a host gesture, so undo sees it)",
+                        slot.name()
+                    ));
+            if resp.clicked() && !on {
+                self.switch_slot(slot, setter);
             }
         }
-        self.presets.iter().position(matches)
-    }
-
-    /// Load a built-in preset: every table parameter as one gesture of its own. A value the
-    /// plugin does not offer (quality `reference`, offline only) is loaded as its nearest
-    /// (`ultra`), with the reason logged.
-    pub(super) fn load_preset(&mut self, index: usize, setter: &ParamSetter) {
-        let Some(preset) = self.presets.get(index) else {
-            return;
-        };
-        for spec in PARAMS.iter() {
-            let (v, why) = to_plugin_value(spec, preset.params.get(spec.id));
-            if let Some(why) = why {
-                nice_warn!("Trundle preset '{}': {why}", preset.name);
-            }
-            match self.params.get(spec.id) {
-                TableParam::Float(p) => widgets::set_once(setter, p, v as f32),
-                TableParam::Int(p) => widgets::set_once(setter, p, v.round() as i32),
-            }
+        let active = self.ab.active();
+        let copy_resp = widgets::button(ui, copy, Id::unique("ab_copy"), "", t);
+        {
+            // "A → B" (or "B → A"), the arrow drawn.
+            let p = ui.painter_at(copy);
+            let font = FontId::proportional(t.font_small);
+            let y = copy.center().y;
+            let w = copy.width();
+            p.text(
+                Pos2::new(copy.left() + 0.2 * w, y),
+                Align2::CENTER_CENTER,
+                active.name(),
+                font.clone(),
+                TEXT,
+            );
+            p.text(
+                Pos2::new(copy.right() - 0.2 * w, y),
+                Align2::CENTER_CENTER,
+                active.other().name(),
+                font,
+                TEXT,
+            );
+            widgets::right_arrow(
+                &p,
+                Pos2::new(copy.left() + 0.36 * w, y),
+                Pos2::new(copy.right() - 0.36 * w, y),
+                TEXT_DIM,
+                t,
+            );
         }
-        self.loaded = Some(index);
+        if copy_resp
+            .on_hover_text(format!(
+                "Copy the current sound (slot {}) into slot {}",
+                active.name(),
+                active.other().name()
+            ))
+            .clicked()
+        {
+            let live = self.live_params();
+            self.ab.copy_to_other(&live);
+        }
+        let locked: Vec<&str> = Group::ALL
+            .iter()
+            .filter(|g| self.locks.locked(**g))
+            .map(|g| g.name())
+            .collect();
+        let random_help = if locked.is_empty() {
+            "New values for the ball, action, object, position, width and seed, within \
+             musically useful ranges (gain, output, limiter, quality and engine stay)"
+                .to_string()
+        } else {
+            format!(
+                "New values within musically useful ranges; locked: {}",
+                locked.join(", ")
+            )
+        };
+        if widgets::button(ui, random, Id::unique("randomize"), "RANDOM", t)
+            .on_hover_text(random_help)
+            .clicked()
+        {
+            self.randomize(setter);
+        }
+        let locks_resp = widgets::button(ui, locks, Id::unique("randomize_locks"), "", t)
+            .on_hover_text("Lock groups that randomize leaves alone");
+        let any_locked = Group::ALL.iter().any(|g| self.locks.locked(*g));
+        widgets::down_triangle(
+            ui.painter(),
+            locks.center(),
+            0.45 * t.font_small,
+            if any_locked { ACCENT } else { TEXT },
+        );
+        egui::Popup::menu(&locks_resp)
+            .close_behavior(egui::PopupCloseBehavior::CloseOnClickOutside)
+            .show(|ui| {
+                ui.label(RichText::new("Randomize leaves locked groups alone").small());
+                for g in Group::ALL {
+                    ui.checkbox(self.locks.flag_mut(g), format!("lock {}", g.name()));
+                }
+            });
     }
 
     /// Tabs switching the bottom row between the designed sections and the generic page.
@@ -204,7 +308,7 @@ impl TrundleEditor {
         p.text(
             rect.left_center(),
             Align2::LEFT_CENTER,
-            "drag knobs up/down  ·  shift = fine  ·  double-click = default  ·  hover for help",
+            "drag · shift = fine  ·  double-click = type a value  ·  ctrl/alt-click = default  ·  hover = help",
             FontId::proportional(t.font_small * 0.95),
             TEXT_DIM,
         );

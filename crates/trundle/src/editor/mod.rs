@@ -1,9 +1,9 @@
 //! The editor (nice-plug-egui): the action and material disks, the ball's position on the
 //! object, a live spectrum, rotary knobs and selectors for the ball, the object and the
-//! output, and a preset menu.
+//! output, and in the header the A/B compare, randomize and the preset browser.
 //!
 //! ```text
-//! ┌ TRUNDLE  rolling · rubbing · scratching          ◀ [preset ▾] ▶   (BYPASS) ┐
+//! ┌ TRUNDLE  tagline   [A][B][A→B] [RANDOM][▾]   ◀ [preset ▾] ▶       (BYPASS) ┐
 //! ├ ACTION ──────┬ MATERIAL ────┬ POSITION ─────┬ OUTPUT SPECTRUM ────────────┤
 //! │ rub·scratch· │ wood·metal·  │ ball + ear on │ log frequency, dBFS grid    │
 //! │ roll disk    │ glass disk   │ the object,   │                             │
@@ -20,7 +20,15 @@
 //!   radii) is multiplied by one scale factor, `min(width / 880, height / 600)`, so the
 //!   editor scales as the host resizes it and keeps its proportions.
 //! * Every change goes through nice-plug's `ParamSetter` with begin/set/end gestures (see
-//!   `editor/widgets.rs`), so host automation recording works.
+//!   `editor/widgets.rs`), so host automation recording works. Double-click types a value
+//!   (`editor/text_entry.rs`), ctrl/cmd- or alt-click resets, on every control.
+//! * The preset name opens the browser (`editor/browser.rs`) in place of the body: built-in
+//!   and user presets (`crate::user_presets`), filtered by name and tag. A/B compare
+//!   (`crate::compare`) and randomize (`crate::randomize`) change the whole sound through
+//!   `editor/snapshot.rs`, each changed parameter a host gesture.
+//! * HiDPI: everything is in logical points; egui's pixels per point are the window's scale
+//!   factor (the host's `set_scale` / the system's, through nice-plug-egui and baseview),
+//!   never overridden here. The layout scale below comes on top of it.
 //! * Table rows added after this layout was drawn are not lost: they appear with generic
 //!   controls on a second page ("MORE") until they get a designed place.
 //! * The limiter's gain reduction comes from the audio thread's lock-free [`LimiterMeter`]
@@ -30,19 +38,25 @@
 //!   [`SpectrumTap`] — only while the window is open, with buffers allocated once (the
 //!   one per-frame allocation is the shape handed to egui, which takes ownership of it).
 
+mod browser;
 mod disks;
 mod header;
 mod layout;
 mod panels;
+mod snapshot;
+mod text_entry;
 mod theme;
 mod widgets;
 
 use layout::*;
 use theme::*;
 
+use crate::compare::AbCompare;
 use crate::meter::{Ballistics, LimiterMeter};
 use crate::params::{to_plugin_value, TableParam, TrundleParams};
+use crate::randomize::Locks;
 use crate::spectrum::{SpectrumAnalyzer, SpectrumTap, COLUMNS, F_LO_HZ};
+use crate::user_presets::{Listing, PresetStore};
 use egui::{Align2, Color32, FontId, Id, Pos2, Rect, Sense, Stroke, UiBuilder, Vec2};
 use nice_plug::context::gui::GuiContext;
 use nice_plug::editor::SizeConstraints;
@@ -50,7 +64,7 @@ use nice_plug::prelude::*;
 use nice_plug_egui::{create_egui_editor, EguiEditor, EguiNiceSettings, NiceEguiApp};
 use std::sync::Arc;
 use trundle_dsp::preset::{Preset, BUILTIN_PRESETS};
-use trundle_dsp::{ParamId, PARAMS};
+use trundle_dsp::{ParamId, Params, PARAMS};
 
 /// The design size (logical points): at this size the scale factor is 1.
 const DESIGN_W: f32 = 880.0;
@@ -69,9 +83,20 @@ pub struct TrundleEditor {
     reduction: Ballistics,
     gui: Option<GuiContext>,
     analyzer: SpectrumAnalyzer,
+    /// The built-in presets.
     presets: Vec<Preset>,
-    /// The preset last loaded from the menu (an index into `presets`).
-    loaded: Option<usize>,
+    /// The user preset directory (`None` on a system without a user data directory).
+    store: Option<PresetStore>,
+    /// The user presets, as last read from `store`.
+    user: Listing,
+    /// The preset last loaded.
+    loaded: Option<snapshot::Loaded>,
+    /// The preset browser's state.
+    browser: browser::Browser,
+    /// The A/B compare slots.
+    ab: AbCompare,
+    /// The groups randomize leaves alone.
+    locks: Locks,
     /// The scale the egui style was last sized for.
     styled_scale: f32,
     /// Table rows this editor has no designed place for (rows added to the table after the
@@ -116,7 +141,8 @@ const PLACED: [ParamId; 27] = [
 ///
 /// # Allocation
 /// Allocates the spectrum analyser and parses the built-in presets; called by the wrapper on
-/// the main thread, never on the audio thread.
+/// the main thread, never on the audio thread. The user preset directory is read when the
+/// window opens and when the browser opens, on the GUI thread.
 pub fn create(
     params: Arc<TrundleParams>,
     tap: Arc<SpectrumTap>,
@@ -134,7 +160,12 @@ pub fn create(
         gui: None,
         analyzer: SpectrumAnalyzer::new(),
         presets,
+        store: PresetStore::default_dir().map(PresetStore::new),
+        user: Listing::default(),
         loaded: None,
+        browser: browser::Browser::default(),
+        ab: AbCompare::default(),
+        locks: Locks::default(),
         styled_scale: 0.0,
         extra: PARAMS
             .iter()
@@ -191,6 +222,8 @@ impl NiceEguiApp for TrundleEditor {
         egui_ctx.set_visuals(visuals);
         self.styled_scale = 0.0;
         self.gui = Some(nice_gui_ctx);
+        // The user presets, for the arrows (the window's thread, as it opens).
+        self.refresh_user_presets();
         Ok(())
     }
 
@@ -215,6 +248,13 @@ impl NiceEguiApp for TrundleEditor {
         ui.painter().rect_filled(full, 0.0, BG);
 
         self.header(ui, l.header, &setter, &t);
+
+        if self.browser.open {
+            let body = Rect::from_min_max(l.action.min, l.output.max);
+            self.browser(ui, body, &setter, &t);
+            self.footer(ui, l.footer, &gui, &t);
+            return;
+        }
 
         let body = panel(ui, l.action, "ACTION", None, &t);
         self.action_disk(ui, body, &setter, &t);

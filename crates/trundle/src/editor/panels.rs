@@ -174,8 +174,9 @@ impl TrundleEditor {
                 field,
                 p,
                 setter,
-                "Random seed: drag to step it, double-click for the default. The same seed \
-                 and parameters give the same samples.",
+                "Random seed: drag to step it, double-click to type one, ctrl/cmd- or \
+                 alt-click for the default. The same seed and parameters give the same \
+                 samples.",
                 t,
             );
             let new = Rect::from_min_max(

@@ -3,8 +3,17 @@
 //! Every control talks to the host the same way: `begin_set_parameter` when the pointer goes
 //! down on it, `set_parameter` while it moves, `end_set_parameter` when it is released, so a
 //! host recording automation sees one gesture per drag. One-shot changes (a click on a
-//! selector, a double-click reset, a wheel step) are a complete begin/set/end of their own.
+//! selector, a reset, a typed value, a wheel step) are a complete begin/set/end of their own.
+//!
+//! The gestures are the same on every control:
+//!
+//! * **ctrl/cmd-click or alt-click** resets to the default (knobs, the seed field,
+//!   selectors, the pads);
+//! * **double-click** opens a text field to type a value (knobs and the seed field; see
+//!   `editor/text_entry.rs`); on the pads, which have no one value to type, it resets;
+//! * **shift** makes drags and the wheel ten times finer.
 
+use super::text_entry;
 use super::Theme;
 use egui::{Align2, Color32, CursorIcon, FontId, Id, Pos2, Rect, Response, Sense, Stroke, Vec2};
 use nice_plug::prelude::*;
@@ -38,6 +47,12 @@ fn store_gesture(ui: &egui::Ui, id: Id, g: Gesture) {
     ui.data_mut(|d| d.insert_temp(id, g));
 }
 
+/// Whether the reset modifier is held: ctrl/cmd or alt (a click with it resets to the
+/// default).
+pub fn reset_modifier(ui: &egui::Ui) -> bool {
+    ui.input(|i| i.modifiers.command || i.modifiers.ctrl || i.modifiers.alt)
+}
+
 /// Set `param` to `plain` as one complete gesture (begin/set/end).
 pub fn set_once<P: Param>(setter: &ParamSetter, param: &P, plain: P::Plain) {
     setter.begin_set_parameter(param);
@@ -63,7 +78,8 @@ fn arc(c: Pos2, r: f32, a0: f32, a1: f32, stroke: Stroke) -> egui::Shape {
 /// parameter's own formatting.
 ///
 /// * Drag vertically to turn (up = more), shift-drag for fine control.
-/// * Double-click (or ctrl/cmd-click) resets to the default.
+/// * Ctrl/cmd-click or alt-click resets to the default.
+/// * Double-click opens a text field over the value to type one (units accepted).
 /// * The mouse wheel turns it in small steps.
 /// * Hovering shows `doc`.
 pub fn knob<P: Param>(
@@ -79,14 +95,14 @@ pub fn knob<P: Param>(
     let resp = ui.interact(rect, id, Sense::click_and_drag());
     let mut g = gesture(ui, id);
     let down = resp.is_pointer_button_down_on();
-    let (dy, shift, command, wheel) = ui.input(|i| {
+    let (dy, shift, wheel) = ui.input(|i| {
         (
             i.pointer.delta().y,
             i.modifiers.shift,
-            i.modifiers.command,
             i.smooth_scroll_delta.x + i.smooth_scroll_delta.y,
         )
     });
+    let command = reset_modifier(ui);
 
     if down && !g.active {
         setter.begin_set_parameter(param);
@@ -107,19 +123,15 @@ pub fn knob<P: Param>(
             setter.set_parameter(param, plain);
         }
     }
-    if resp.double_clicked() {
-        if g.active {
-            setter.set_parameter(param, param.default_plain_value());
-        } else {
-            set_once(setter, param, param.default_plain_value());
-        }
-        g.normalized = param.default_normalized_value();
+    if resp.double_clicked() && !command {
+        text_entry::open(ui, id, param);
     }
     if g.active && !down {
         setter.end_set_parameter(param);
         g.active = false;
     }
-    if !g.active && resp.hovered() && wheel != 0.0 {
+    let typing = text_entry::is_open(ui, id);
+    if !g.active && !typing && resp.hovered() && wheel != 0.0 {
         let per_pt = if shift {
             WHEEL_PER_PT / 10.0
         } else {
@@ -193,7 +205,18 @@ pub fn knob<P: Param>(
         Stroke::new((0.09 * r).max(1.5), t.text),
     );
 
-    let text = param.normalized_value_to_string(value, true);
+    let value_rect = Rect::from_min_max(Pos2::new(rect.left(), rect.bottom() - value_h), rect.max);
+    if text_entry::show(ui, id, value_rect, param, setter, t) {
+        return resp;
+    }
+    let failed = text_entry::error(ui, id);
+    let (text, colour) = match &failed {
+        Some(_) => ("not a value".to_string(), text_entry::ERROR_COLOUR),
+        None => (
+            param.normalized_value_to_string(value, true),
+            if g.active { t.accent_hi } else { t.text },
+        ),
+    };
     fitted_text(
         &painter,
         Pos2::new(c.x, rect.bottom()),
@@ -201,13 +224,13 @@ pub fn knob<P: Param>(
         text,
         t.font_value,
         rect.width(),
-        if g.active { t.accent_hi } else { t.text },
+        colour,
     );
 
-    if g.active {
-        resp
-    } else {
-        resp.on_hover_text(doc)
+    match failed {
+        Some(message) => resp.on_hover_text(message),
+        None if g.active => resp,
+        None => resp.on_hover_text(doc),
     }
 }
 
@@ -234,7 +257,8 @@ fn fitted_text(
 /// A row (or column) of buttons choosing one value of an integer or enumerated `param`, each
 /// named by the parameter's own formatting. In a row, each button is as wide as its name
 /// needs plus an equal share of the rest; if the row is too narrow the shares narrow first,
-/// then the names shrink. A click is one complete gesture.
+/// then the names shrink. A click is one complete gesture; ctrl/cmd-click or alt-click
+/// anywhere on it resets it to the default.
 pub fn selector(
     ui: &mut egui::Ui,
     rect: Rect,
@@ -291,8 +315,13 @@ pub fn selector(
         };
         let id = ui.scope_id().with(("selector", param.name(), i));
         let resp = ui.interact(cell, id, Sense::click());
-        if resp.clicked() && value != current {
-            set_once(setter, param, value);
+        let target = if reset_modifier(ui) {
+            param.default_plain_value()
+        } else {
+            value
+        };
+        if resp.clicked() && target != current {
+            set_once(setter, param, target);
         }
         let selected = value == param.unmodulated_plain_value();
         let inner = cell.shrink(0.15 * t.font_small);
@@ -341,7 +370,8 @@ pub fn toggle(
 }
 
 /// A pill-shaped switch for a two-valued integer `param` (an off/on enumeration: 0 = off,
-/// 1 = on) showing `label`; lit in `on_colour` when on. A click is one gesture.
+/// 1 = on) showing `label`; lit in `on_colour` when on. A click is one gesture; ctrl/cmd-
+/// or alt-click sets the default.
 pub fn int_toggle(
     ui: &mut egui::Ui,
     rect: Rect,
@@ -355,7 +385,17 @@ pub fn int_toggle(
     let resp = ui.interact(rect, id, Sense::click());
     let on = param.unmodulated_plain_value() != 0;
     if resp.clicked() {
-        set_once(setter, param, if on { 0 } else { 1 });
+        // Like a selector: ctrl/cmd- or alt-click gives the default.
+        let target = if reset_modifier(ui) {
+            param.default_plain_value()
+        } else if on {
+            0
+        } else {
+            1
+        };
+        if target != param.unmodulated_plain_value() {
+            set_once(setter, param, target);
+        }
     }
     pill(
         ui,
@@ -485,6 +525,75 @@ pub fn button(ui: &mut egui::Ui, rect: Rect, id: Id, text: &str, t: &Theme) -> R
     resp
 }
 
+/// A small flat button with `text` that is lit (accent fill) while `on`: one of a set of
+/// exclusive choices that are actions rather than parameter values (the compare slots).
+pub fn tab_button(
+    ui: &mut egui::Ui,
+    rect: Rect,
+    id: Id,
+    text: &str,
+    on: bool,
+    t: &Theme,
+) -> Response {
+    let resp = ui.interact(rect, id, Sense::click());
+    let painter = ui.painter_at(rect.expand(1.0));
+    let fill = if on {
+        t.accent
+    } else if resp.hovered() {
+        t.well_hi
+    } else {
+        t.well
+    };
+    painter.rect(
+        rect,
+        t.radius_small(),
+        fill,
+        Stroke::new(1.0, if on { t.accent } else { t.border }),
+        egui::StrokeKind::Inside,
+    );
+    painter.text(
+        rect.center(),
+        Align2::CENTER_CENTER,
+        text,
+        FontId::proportional(t.font_small),
+        if on { t.on_accent } else { t.text },
+    );
+    resp
+}
+
+/// A small solid triangle pointing down, centred on `c`, `h` high (egui's default fonts
+/// have no "▾").
+pub fn down_triangle(painter: &egui::Painter, c: Pos2, h: f32, colour: Color32) {
+    painter.add(egui::Shape::convex_polygon(
+        vec![
+            c + Vec2::new(-0.6 * h, -0.5 * h),
+            c + Vec2::new(0.6 * h, -0.5 * h),
+            c + Vec2::new(0.0, 0.5 * h),
+        ],
+        colour,
+        Stroke::NONE,
+    ));
+}
+
+/// A small solid arrow pointing right from `from` to `to` (egui's default fonts have no
+/// "→").
+pub fn right_arrow(painter: &egui::Painter, from: Pos2, to: Pos2, colour: Color32, t: &Theme) {
+    let head = 0.3 * t.font_small;
+    painter.line_segment(
+        [from, to - Vec2::new(head, 0.0)],
+        Stroke::new((0.12 * t.font_small).max(1.0), colour),
+    );
+    painter.add(egui::Shape::convex_polygon(
+        vec![
+            to,
+            to + Vec2::new(-1.4 * head, -head),
+            to + Vec2::new(-1.4 * head, head),
+        ],
+        colour,
+        Stroke::NONE,
+    ));
+}
+
 /// A small flat button with a triangle pointing right (`right`) or left.
 pub fn arrow_button(ui: &mut egui::Ui, rect: Rect, id: Id, right: bool, t: &Theme) -> Response {
     let resp = button(ui, rect, id, "", t);
@@ -504,7 +613,8 @@ pub fn arrow_button(ui: &mut egui::Ui, rect: Rect, id: Id, right: bool, t: &Them
 }
 
 /// A numeric field for a large integer `param` (the seed): drag horizontally or vertically
-/// to step it by one per few points, double-click to reset. One drag is one gesture.
+/// to step it by one per few points, double-click to type a value, ctrl/cmd-click or
+/// alt-click to reset. One drag is one gesture.
 pub fn int_field(
     ui: &mut egui::Ui,
     rect: Rect,
@@ -518,6 +628,7 @@ pub fn int_field(
     let mut g = gesture(ui, id);
     let down = resp.is_pointer_button_down_on();
     let (delta, shift) = ui.input(|i| (i.pointer.delta(), i.modifiers.shift));
+    let command = reset_modifier(ui);
     if down && !g.active {
         setter.begin_set_parameter(param);
         // `normalized` holds the fractional step position here.
@@ -525,8 +636,11 @@ pub fn int_field(
             active: true,
             normalized: 0.0,
         };
+        if command {
+            setter.set_parameter(param, param.default_plain_value());
+        }
     }
-    if g.active && down {
+    if g.active && down && !command {
         let per_pt = if shift { 0.05 } else { 0.25 } / t.scale;
         g.normalized += (delta.x - delta.y) * per_pt;
         let steps = g.normalized.trunc();
@@ -539,21 +653,21 @@ pub fn int_field(
             setter.set_parameter(param, v);
         }
     }
-    if resp.double_clicked() {
-        if g.active {
-            setter.set_parameter(param, param.default_plain_value());
-        } else {
-            set_once(setter, param, param.default_plain_value());
-        }
+    if resp.double_clicked() && !command {
+        text_entry::open(ui, id, param);
     }
     if g.active && !down {
         setter.end_set_parameter(param);
         g.active = false;
     }
     store_gesture(ui, id, g);
+    if text_entry::show(ui, id, rect, param, setter, t) {
+        return resp;
+    }
     if resp.hovered() || g.active {
         ui.ctx().set_cursor_icon(CursorIcon::ResizeHorizontal);
     }
+    let failed = text_entry::error(ui, id);
 
     let painter = ui.painter_at(rect.expand(1.0));
     painter.rect(
@@ -567,17 +681,24 @@ pub fn int_field(
         Stroke::new(1.0, t.border),
         egui::StrokeKind::Inside,
     );
+    let (text, colour) = match &failed {
+        Some(_) => ("not a value".to_string(), text_entry::ERROR_COLOUR),
+        None => (
+            param.normalized_value_to_string(param.unmodulated_normalized_value(), true),
+            if g.active { t.accent_hi } else { t.text },
+        ),
+    };
     painter.text(
         rect.center(),
         Align2::CENTER_CENTER,
-        param.normalized_value_to_string(param.unmodulated_normalized_value(), true),
+        text,
         FontId::monospace(t.font_value),
-        if g.active { t.accent_hi } else { t.text },
+        colour,
     );
-    if g.active {
-        resp
-    } else {
-        resp.on_hover_text(doc)
+    match failed {
+        Some(message) => resp.on_hover_text(message),
+        None if g.active => resp,
+        None => resp.on_hover_text(doc),
     }
 }
 
