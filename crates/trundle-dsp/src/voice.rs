@@ -108,7 +108,8 @@ fn space_controls(p: &Params) -> SpaceControls {
     }
 }
 
-fn object_controls(p: &Params) -> ObjectControls {
+/// The object controls of a parameter set (as the voice maps them).
+pub fn object_controls(p: &Params) -> ObjectControls {
     ObjectControls {
         material_x: p.get(ParamId::MaterialX),
         material_y: p.get(ParamId::MaterialY),
