@@ -1105,7 +1105,8 @@ impl Object {
                 over[m.band].1 += e * tau;
             }
         }
-        for (i, b) in obj.bands().iter().enumerate() {
+        let bands = obj.bands().iter().enumerate().filter(|_| obj.band_part());
+        for (i, b) in bands {
             let f_mid = fitted::band_centre_hz(i) * transpose;
             let (tau_env, a_env) = if b.amplitude > 0.0 {
                 modify(f_mid, b.decay_s, b.amplitude)

@@ -230,6 +230,103 @@ pub struct LoadedObject {
     bands: [LoadedBand; BANDS],
     /// Side units of the band modes.
     band_side: [[f64; BAND_MODES]; BANDS],
+    /// The band part plays (see [`LoadedObject::with_band_part`]).
+    band_part: bool,
+}
+
+/// Modes shorter than this (s) get the correction for the energy their phase gains
+/// (below), and lend their decay to the energy it loses.
+pub const SHORT_MODE_S: f64 = 0.05;
+
+/// The span [`phase_energies`] synthesizes at most (s).
+pub const PHASE_SPAN_S: f64 = 0.5;
+
+/// Per third-octave band, the energy (a²τ units: 4 × ∫y²dt) of the modes with their fitted
+/// phases, and as the bank plays them (sine phase, signed gain): both sums synthesized at
+/// the recording's rate over the fitted span (at most [`PHASE_SPAN_S`], its last 30 %
+/// faded out identically) and measured through third-octave band-pass filters (two
+/// cascaded RBJ band-pass biquads per band). What differs is mostly the onset: a mode that
+/// starts at aₖ·cos φₖ (a step: the strike's click, a skirt falling as 1/f) against one
+/// that starts at zero (1/f²), and overlapping short modes that add up differently.
+/// Offline, in [`LoadedObject::new`].
+fn phase_energies(fit: &FittedObject) -> ([f64; BANDS], [f64; BANDS], [bool; BANDS]) {
+    use core::f64::consts::{PI, TAU};
+    let mut exact = [0.0; BANDS];
+    let mut sine = [0.0; BANDS];
+    let mut has = [false; BANDS];
+    let fs = fit.sample_rate_hz;
+    let short: Vec<&FitMode> = fit.modes.iter().filter(|m| m.amplitude > 0.0).collect();
+    if short.is_empty() {
+        return (exact, sine, has);
+    }
+    for m in short.iter().filter(|m| m.decay_s < SHORT_MODE_S) {
+        has[band_index(m.freq_hz)] = true;
+    }
+    let span = if fit.duration_s > 0.0 {
+        fit.duration_s.min(PHASE_SPAN_S)
+    } else {
+        PHASE_SPAN_S
+    };
+    let len = (span * fs).ceil() as usize + 1;
+    let (mut xe, mut xs) = (vec![0.0f64; len], vec![0.0f64; len]);
+    for m in &short {
+        let r = (-1.0 / (m.decay_s * fs)).exp();
+        let (sw, cw) = (TAU * m.freq_hz / fs).sin_cos();
+        let sgn = if -m.phase_rad.sin() < 0.0 { -1.0 } else { 1.0 };
+        // z = a·e^{iφ}·pⁿ: Re z is the fitted mode, Im of a·pⁿ the played one.
+        let (mut zr, mut zi) = (m.amplitude * m.phase_rad.cos(), m.amplitude * m.phase_rad.sin());
+        let (mut ur, mut ui) = (m.amplitude, 0.0);
+        for n in 0..len {
+            xe[n] += zr;
+            xs[n] += sgn * ui;
+            let (a, b) = (r * (zr * cw - zi * sw), r * (zr * sw + zi * cw));
+            zr = a;
+            zi = b;
+            let (a, b) = (r * (ur * cw - ui * sw), r * (ur * sw + ui * cw));
+            ur = a;
+            ui = b;
+            if ur.abs() + ui.abs() < 1e-9 * m.amplitude {
+                break;
+            }
+        }
+    }
+    let fade = len * 7 / 10;
+    for n in fade..len {
+        let w = 0.5 * (1.0 + (PI * (n - fade) as f64 / (len - fade) as f64).cos());
+        xe[n] *= w;
+        xs[n] *= w;
+    }
+    let q = 1.0 / (2f64.powf(1.0 / 6.0) - 2f64.powf(-1.0 / 6.0));
+    for i in 0..BANDS {
+        let f0 = band_centre_hz(i);
+        if f0 >= 0.45 * fs {
+            break;
+        }
+        let w0 = TAU * f0 / fs;
+        let alpha = w0.sin() / (2.0 * q);
+        let a0 = 1.0 + alpha;
+        let (b0, b2, a1, a2) = (alpha / a0, -alpha / a0, -2.0 * w0.cos() / a0, (1.0 - alpha) / a0);
+        let energy = |x: &[f64]| {
+            let mut st = [[0.0f64; 4]; 2];
+            let mut e = 0.0;
+            for &v in x {
+                let mut y = v;
+                for s in st.iter_mut() {
+                    let out = b0 * y + b2 * s[1] - a1 * s[2] - a2 * s[3];
+                    s[1] = s[0];
+                    s[0] = y;
+                    s[3] = s[2];
+                    s[2] = out;
+                    y = out;
+                }
+                e += y * y;
+            }
+            4.0 * e / fs
+        };
+        exact[i] = energy(&xe);
+        sine[i] = energy(&xs);
+    }
+    (exact, sine, has)
 }
 
 /// SplitMix64: the deterministic side units and signs.
@@ -293,22 +390,56 @@ impl LoadedObject {
             // No modes: the envelope alone, at a nominal level (the voice normalizes).
             1.0
         };
-        let mut bands = [LoadedBand {
-            amplitude: 0.0,
-            decay_s: 0.0,
-        }; BANDS];
+        // Per band, the band part's energy (a²τ units) and energy × decay.
+        let mut acc = [(0.0f64, 0.0f64); BANDS];
         for b in &fit.envelope {
             if b.level_db < -120.0 {
                 continue;
             }
             let i = band_index(b.centre_hz);
             let tau = b.decay_s.clamp(crate::material::DECAY_MIN_S, crate::material::DECAY_MAX_S);
-            let e = 10f64.powf(b.level_db.min(0.0) / 10.0) * e_rec;
-            let a = (e / (BAND_MODES as f64 * tau * held(tau))).sqrt();
-            bands[i] = LoadedBand {
-                amplitude: a,
-                decay_s: tau,
-            };
+            let e = 10f64.powf(b.level_db.min(0.0) / 10.0) * e_rec / held(tau);
+            acc[i].0 += e;
+            acc[i].1 += e * tau;
+        }
+        // What the sine phase changes: per band, the energy of the modes with their fitted
+        // phases against the energy of the modes as played ([`phase_energies`]). Energy
+        // lost (the strike's click, overlapping short modes that added up in phase) goes to
+        // the band part, ringing for the band's own time; energy gained (the sine phase's
+        // slower skirts, short modes that cancelled) scales the band's short modes down.
+        let (exact, played, has_short) = phase_energies(fit);
+        let mut mode_scale = [1.0f64; BANDS];
+        for i in 0..BANDS {
+            let (ex, pl) = (exact[i], played[i]);
+            if !has_short[i] && ex <= pl {
+                continue;
+            }
+            if ex > pl {
+                // The click: it rings for the band's own time, 1/(π·bandwidth).
+                let bw = band_centre_hz(i) * (2f64.powf(1.0 / 6.0) - 2f64.powf(-1.0 / 6.0));
+                let tau = 1.0 / (core::f64::consts::PI * bw);
+                let e = ex - pl;
+                acc[i].0 += e;
+                acc[i].1 += e * tau;
+            } else if pl > 0.0 {
+                mode_scale[i] = (ex / pl).max(0.01).sqrt();
+            }
+        }
+        for m in modes.iter_mut().filter(|m| m.decay_s < SHORT_MODE_S) {
+            m.gain *= mode_scale[m.band];
+        }
+        let mut bands = [LoadedBand {
+            amplitude: 0.0,
+            decay_s: 0.0,
+        }; BANDS];
+        for (i, &(e, et)) in acc.iter().enumerate() {
+            if e > 0.0 {
+                let tau = (et / e).clamp(crate::material::DECAY_MIN_S, crate::material::DECAY_MAX_S);
+                bands[i] = LoadedBand {
+                    amplitude: (e / (BAND_MODES as f64 * tau)).sqrt(),
+                    decay_s: tau,
+                };
+            }
         }
         let mut band_side = [[0.0; BAND_MODES]; BANDS];
         for (i, s) in band_side.iter_mut().enumerate() {
@@ -321,12 +452,25 @@ impl LoadedObject {
             modes,
             bands,
             band_side,
+            band_part: true,
         })
     }
 
     /// Prepare and share (allocates).
     pub fn shared(file: ObjectFile) -> Result<Arc<Self>, String> {
         Self::new(file).map(Arc::new)
+    }
+
+    /// Switch the band part off (the modes alone, with the quality's cap dropping the
+    /// others) or on (the default): for measuring what it adds.
+    pub fn with_band_part(mut self, on: bool) -> Self {
+        self.band_part = on;
+        self
+    }
+
+    /// True when the band part plays.
+    pub fn band_part(&self) -> bool {
+        self.band_part
     }
 
     /// The object file it was built from.
