@@ -89,6 +89,12 @@ pub struct FittedObject {
 /// The object file version this build writes and reads.
 pub const OBJECT_VERSION: u64 = 1;
 
+/// Longest decay an object file may give (s): beyond it a mode does not decay.
+pub const MAX_DECAY_S: f64 = 3600.0;
+
+/// Largest amplitude an object file may give (full scale = 1).
+pub const MAX_AMPLITUDE: f64 = 1000.0;
+
 /// Modes per third-octave band of the band part.
 pub const BAND_MODES: usize = 3;
 
@@ -121,8 +127,13 @@ impl FittedObject {
     /// positive, amplitudes not negative; the error names the field (`modes[3].freq_hz`).
     pub fn validate(&self) -> Result<(), String> {
         let fs = self.sample_rate_hz;
-        if !(fs.is_finite() && fs > 0.0) {
-            return Err(format!("\"sample_rate_hz\" must be a positive number, got {fs}"));
+        if !(fs.is_finite() && (1000.0..=1e7).contains(&fs)) {
+            return Err(format!(
+                "\"sample_rate_hz\" must be a sample rate in Hz (1000 … 10⁷), got {fs}"
+            ));
+        }
+        if self.modes.len() > 100_000 || self.envelope.len() > 1000 {
+            return Err("too many modes or envelope bands (at most 100000 and 1000)".into());
         }
         for (i, m) in self.modes.iter().enumerate() {
             let field = |f: &str| format!("modes[{i}].{f}");
@@ -144,15 +155,22 @@ impl FittedObject {
                     0.5 * fs
                 ));
             }
-            if m.decay_s <= 0.0 {
-                return Err(format!("{} = {} must be positive", field("decay_s"), m.decay_s));
-            }
-            if m.amplitude < 0.0 {
+            if !(m.decay_s > 0.0 && m.decay_s <= MAX_DECAY_S) {
                 return Err(format!(
-                    "{} = {} must not be negative",
+                    "{} = {} must be positive and at most {MAX_DECAY_S} s",
+                    field("decay_s"),
+                    m.decay_s
+                ));
+            }
+            if !(0.0..=MAX_AMPLITUDE).contains(&m.amplitude) {
+                return Err(format!(
+                    "{} = {} must be between 0 and {MAX_AMPLITUDE} (full scale = 1)",
                     field("amplitude"),
                     m.amplitude
                 ));
+            }
+            if m.phase_rad.abs() > 1e3 {
+                return Err(format!("{} = {} is not a phase", field("phase_rad"), m.phase_rad));
             }
         }
         for (i, b) in self.envelope.iter().enumerate() {
@@ -166,21 +184,39 @@ impl FittedObject {
                     return Err(format!("{} must be a finite number, got {v}", field(name)));
                 }
             }
-            if b.centre_hz <= 0.0 {
-                return Err(format!("{} must be positive", field("centre_hz")));
+            if !(b.centre_hz > 0.0 && b.centre_hz < 0.5 * fs) {
+                return Err(format!(
+                    "{} = {} Hz is outside (0, {} Hz), half the sample rate",
+                    field("centre_hz"),
+                    b.centre_hz,
+                    0.5 * fs
+                ));
             }
-            if b.decay_s <= 0.0 {
-                return Err(format!("{} = {} must be positive", field("decay_s"), b.decay_s));
+            if !(b.decay_s > 0.0 && b.decay_s <= MAX_DECAY_S) {
+                return Err(format!(
+                    "{} = {} must be positive and at most {MAX_DECAY_S} s",
+                    field("decay_s"),
+                    b.decay_s
+                ));
+            }
+            if !(-400.0..=60.0).contains(&b.level_db) {
+                return Err(format!(
+                    "{} = {} dB is outside −400 … 60 dB",
+                    field("level_db"),
+                    b.level_db
+                ));
             }
         }
-        for (name, v) in [
-            ("duration_s", self.duration_s),
-            ("residual_db", self.residual_db),
-            ("onset_s", self.onset_s),
-            ("peak", self.peak),
+        for (name, v, lo, hi) in [
+            ("duration_s", self.duration_s, 0.0, 1e6),
+            ("residual_db", self.residual_db, -400.0, 100.0),
+            ("onset_s", self.onset_s, 0.0, 1e6),
+            ("peak", self.peak, 0.0, 1e3),
+            ("modal_range_hz[0]", self.modal_range_hz.0, 0.0, 1e7),
+            ("modal_range_hz[1]", self.modal_range_hz.1, 0.0, 1e7),
         ] {
-            if !v.is_finite() {
-                return Err(format!("\"{name}\" must be a finite number, got {v}"));
+            if !(v.is_finite() && (lo..=hi).contains(&v)) {
+                return Err(format!("\"{name}\" must be a number in {lo} … {hi}, got {v}"));
             }
         }
         Ok(())
