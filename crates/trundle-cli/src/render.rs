@@ -149,8 +149,10 @@ pub struct RenderArgs {
     )]
     pub normalize_db: Option<String>,
 
-    /// Play this fitted object (a `trundle fit-object` file) instead of the preset's object;
-    /// `decay`, the material disk, `object_size` and `width` act on it as modifiers.
+    /// Play this fitted object (a `trundle fit-object` file) instead of the preset's object,
+    /// as fitted: the preset's material_x/y, object_size and decay (its recipe object's)
+    /// are reset to their neutral defaults; --set them to modify the object (decay scales
+    /// its decays, the material disk tilts them with frequency, object_size transposes).
     #[arg(long, value_name = "FILE.object.json")]
     pub object: Option<PathBuf>,
 
@@ -212,6 +214,15 @@ pub fn run(args: &RenderArgs) -> Result<String, CliError> {
     }
     execute(&plan)
 }
+
+/// The controls that act on a fitted object as modifiers (neutral at their defaults),
+/// reset by `--object` (see [`trundle_dsp::object::fitted`]); width is the scene's.
+pub const OBJECT_MODIFIERS: [ParamId; 4] = [
+    ParamId::MaterialX,
+    ParamId::MaterialY,
+    ParamId::ObjectSize,
+    ParamId::Decay,
+];
 
 /// Largest object file read (a fitted object of 2000 modes is about 300 KiB).
 pub const MAX_OBJECT_BYTES: u64 = 16 << 20;
@@ -279,6 +290,17 @@ fn plan(args: &RenderArgs) -> Result<Plan, CliError> {
     };
     let mut params = preset.params;
     let mut automation = preset.automation.clone();
+    if args.object.is_some() {
+        // The preset's material, size and decay describe its recipe object: --object plays
+        // the fitted object as fitted (the modifiers at their neutral defaults) unless
+        // --set moves them.
+        for id in OBJECT_MODIFIERS {
+            params
+                .set(id, id.spec().default)
+                .map_err(|e| input(format!("--object: {e}")))?;
+            automation.retain(|l| l.id != id);
+        }
+    }
 
     let mut set_seed: Option<f64> = None;
     let mut set_output: Option<f64> = None;
