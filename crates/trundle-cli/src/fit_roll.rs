@@ -138,6 +138,7 @@ pub fn run(args: &FitRollArgs) -> Result<String, CliError> {
         params: p,
         automation: Vec::new(),
         balls: Vec::new(),
+        object: None,
     };
     // Resynthesis: the preset's force, as long as the recording, analysed the same way.
     let seconds = force.len() as f64 / fs;

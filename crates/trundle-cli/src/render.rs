@@ -41,6 +41,8 @@ use trundle_dsp::events::{process_stereo_with_events, process_with_events, Scene
 use trundle_dsp::limiter::Limiting;
 use trundle_dsp::params::{spec_by_key, Output, ParamEnum, ParamId};
 use trundle_dsp::preset::{Lane, Preset, DEFAULT_PRESET};
+use std::sync::Arc;
+use trundle_dsp::object::fitted::{self, LoadedObject, ObjectFile};
 use trundle_dsp::{Params, Voice};
 
 /// Length of a render unless `--seconds` says otherwise.
@@ -84,6 +86,8 @@ Examples:
   trundle render --preset marble-on-glass --seconds 10 -o marble.wav
   trundle render --set size=0.8 --set shape=bar --seed 7 -o bar.wav
   trundle render --force-only --impacts hits.csv -o force.wav
+  trundle render --object agogo.object.json -o agogo-roll.wav
+  trundle render --object agogo.object.json --impulse --sample-rate 96000 -o agogo-ir.wav
 
 Parameter IDs and ranges: `trundle params`. Built-in presets: `trundle presets`.")]
 pub struct RenderArgs {
@@ -145,6 +149,19 @@ pub struct RenderArgs {
     )]
     pub normalize_db: Option<String>,
 
+    /// Play this fitted object (a `trundle fit-object` file) instead of the preset's object,
+    /// as fitted: the preset's material_x/y, object_size and decay (its recipe object's)
+    /// are reset to their neutral defaults; --set them to modify the object (decay scales
+    /// its decays, the material disk tilts them with frequency, object_size transposes).
+    #[arg(long, value_name = "FILE.object.json")]
+    pub object: Option<PathBuf>,
+
+    /// Render the object struck once by a unit impulse: no ball, no source; the response
+    /// in the fitted recording's units (the modes' amplitudes), until it has decayed by
+    /// 90 dB (at most 60 s) unless --seconds is given.
+    #[arg(long, conflicts_with_all = ["force_only", "impacts"])]
+    pub impulse: bool,
+
     /// Keep the engine's calibrated level. With the scene's `limiter` on (the default) the
     /// look-ahead safety limiter (ceiling -1 dBFS, stereo-linked, latency compensated) keeps
     /// peaks down; with `--set limiter=off` a soft never-clip guard bends only what exceeds
@@ -181,12 +198,57 @@ struct Plan {
     output: PathBuf,
     impacts: Option<PathBuf>,
     overwrite: bool,
+    /// The fitted object played instead of the recipe (from --object or the preset).
+    object: Option<Arc<LoadedObject>>,
+    /// Render the impulse response (`--impulse`); `frames` is then the longest length
+    /// unless `--seconds` fixed it.
+    impulse: bool,
+    seconds_given: bool,
 }
 
 /// Run `trundle render`; returns the summary line.
 pub fn run(args: &RenderArgs) -> Result<String, CliError> {
     let plan = plan(args)?;
+    if plan.impulse {
+        return execute_impulse(&plan);
+    }
     execute(&plan)
+}
+
+/// The controls that act on a fitted object as modifiers (neutral at their defaults),
+/// reset by `--object` (see [`trundle_dsp::object::fitted`]); width is the scene's.
+pub const OBJECT_MODIFIERS: [ParamId; 4] = [
+    ParamId::MaterialX,
+    ParamId::MaterialY,
+    ParamId::ObjectSize,
+    ParamId::Decay,
+];
+
+/// Largest object file read (a fitted object of 2000 modes is about 300 KiB).
+pub const MAX_OBJECT_BYTES: u64 = 16 << 20;
+
+/// Longest impulse response rendered without --seconds (s).
+pub const MAX_IMPULSE_SECONDS: f64 = 60.0;
+
+/// Read, parse and validate an object file (`trundle fit-object`) and prepare it for the
+/// voice; errors name the file and the problem (exit code 2).
+pub fn load_object(path: &Path) -> Result<Arc<LoadedObject>, CliError> {
+    let err = |what: String| input(format!("--object {}: {what}", quote(&path.display().to_string())));
+    let file = File::open(path).map_err(|e| err(format!("cannot open: {e}")))?;
+    let mut bytes = Vec::new();
+    file.take(MAX_OBJECT_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| err(format!("cannot read: {e}")))?;
+    if bytes.len() as u64 > MAX_OBJECT_BYTES {
+        return Err(err(format!(
+            "larger than {} MiB: not an object file",
+            MAX_OBJECT_BYTES >> 20
+        )));
+    }
+    let value: serde_json::Value = serde_json::from_slice(&bytes)
+        .map_err(|e| err(format!("not a valid object file (JSON: {e})")))?;
+    let (object, source) = fitted::from_json(&value).map_err(err)?;
+    LoadedObject::shared(ObjectFile { object, source }).map_err(err)
 }
 
 // ---------------------------------------------------------------------------------------
@@ -206,6 +268,11 @@ fn plan(args: &RenderArgs) -> Result<Plan, CliError> {
         Some(t) => Some(parse_channels(t)?),
         None => None,
     };
+    let seconds = if args.impulse && args.seconds.is_none() {
+        MAX_IMPULSE_SECONDS
+    } else {
+        seconds
+    };
     let frames = (seconds * f64::from(sample_rate)).round() as u64;
     if frames == 0 {
         return Err(input(format!(
@@ -215,8 +282,25 @@ fn plan(args: &RenderArgs) -> Result<Plan, CliError> {
     }
 
     let preset = load_preset(&args.preset)?;
+    let object = match &args.object {
+        Some(path) => Some(load_object(path)?),
+        None => preset.loaded_object().map_err(|e| {
+            input(format!("--preset {}: {e}", quote(&args.preset)))
+        })?,
+    };
     let mut params = preset.params;
     let mut automation = preset.automation.clone();
+    if args.object.is_some() {
+        // The preset's material, size and decay describe its recipe object: --object plays
+        // the fitted object as fitted (the modifiers at their neutral defaults) unless
+        // --set moves them.
+        for id in OBJECT_MODIFIERS {
+            params
+                .set(id, id.spec().default)
+                .map_err(|e| input(format!("--object: {e}")))?;
+            automation.retain(|l| l.id != id);
+        }
+    }
 
     let mut set_seed: Option<f64> = None;
     let mut set_output: Option<f64> = None;
@@ -328,6 +412,9 @@ fn plan(args: &RenderArgs) -> Result<Plan, CliError> {
         output: args.output.clone(),
         impacts: args.impacts.clone(),
         overwrite: args.force,
+        object,
+        impulse: args.impulse,
+        seconds_given: args.seconds.is_some(),
     })
 }
 
@@ -610,6 +697,10 @@ fn execute(plan: &Plan) -> Result<String, CliError> {
     let fs = plan.sample_rate;
     let stereo = plan.channels == 2;
     let mut voice = Voice::new(f64::from(fs), &plan.params);
+    if plan.object.is_some() {
+        voice.set_loaded_object(plan.object.clone());
+        voice.reset();
+    }
     voice.set_impact_log(true);
 
     // Create the temporary outputs first: a folder that cannot be written fails before
@@ -781,6 +872,17 @@ fn execute(plan: &Plan) -> Result<String, CliError> {
         level::fmt_db(stats.rms_db()),
         impacts.count,
     );
+    if let Some(o) = &plan.object {
+        line.push_str(&format!(
+            "; fitted object{} ({} modes)",
+            if o.file().source.is_empty() {
+                String::new()
+            } else {
+                format!(" from {}", o.file().source)
+            },
+            o.modes().len()
+        ));
+    }
     if impacts.dropped > 0 {
         line.push_str(&format!(
             "; warning: {} impacts were not recorded (log overflow)",
@@ -802,6 +904,80 @@ fn execute(plan: &Plan) -> Result<String, CliError> {
         ));
     }
     debug_assert!(stats.peak() <= 1.0);
+    Ok(line)
+}
+
+/// `--impulse`: render [`impulse_response`] and write it (normalized, or at the modes' own
+/// level behind the never-clip guard with --no-normalize).
+fn execute_impulse(plan: &Plan) -> Result<String, CliError> {
+    let fs = plan.sample_rate;
+    let (l, r) = fitted::impulse_response(
+        &plan.params,
+        plan.object.clone(),
+        f64::from(fs),
+        plan.frames as usize,
+        plan.seconds_given,
+    );
+    let mut wav = WavOut::create(&plan.output, plan.format, fs, plan.channels)?;
+    let peak = l
+        .iter()
+        .chain(&r)
+        .fold(0f64, |m, &x| m.max(f64::from(x).abs()));
+    let (gain, level_note) = match plan.level {
+        LevelMode::Normalize { peak_db } if peak > 0.0 => {
+            let g = level::db_to_lin(peak_db) / peak;
+            (
+                g,
+                format!(
+                    "normalized peak to {} dBFS (gain {:+.1} dB)",
+                    level::fmt_db(peak_db),
+                    level::lin_to_db(g)
+                ),
+            )
+        }
+        LevelMode::Normalize { .. } => (1.0, "silent render, nothing to normalize".into()),
+        LevelMode::Calibrated => (1.0, "the modes' own level (not normalized)".into()),
+    };
+    let mut bent = 0u64;
+    for (&a, &b) in l.iter().zip(&r) {
+        let frame: &[f32] = if plan.channels == 2 {
+            &[a, b]
+        } else {
+            &[0.5 * (a + b)]
+        };
+        for &x in frame {
+            let y = f64::from(x) * gain;
+            let y = if plan.level == LevelMode::Calibrated {
+                let (y, b) = level::soft_limit(y);
+                bent += u64::from(b);
+                y
+            } else {
+                y
+            };
+            wav.write(y)
+                .map_err(|e| io_fail("cannot write", wav.tmp.path(), e))?;
+        }
+    }
+    let Written { stats, .. } = wav.finish(&plan.output, plan.overwrite)?;
+    let what = match &plan.object {
+        Some(o) if !o.file().source.is_empty() => {
+            format!("fitted object from {}", o.file().source)
+        }
+        Some(_) => "fitted object".to_string(),
+        None => format!("{}'s object", plan.preset_name),
+    };
+    let mut line = format!(
+        "wrote {}: impulse response of the {what} ({}), {:.3} s at {fs} Hz {}, peak {} dBFS, RMS {} dBFS; {level_note}",
+        plan.output.display(),
+        channels_name(plan.channels),
+        l.len() as f64 / f64::from(fs),
+        plan.format.name(),
+        level::fmt_db(stats.peak_db()),
+        level::fmt_db(stats.rms_db()),
+    );
+    if bent > 0 {
+        line.push_str(&format!("; never-clip guard bent {bent} samples"));
+    }
     Ok(line)
 }
 

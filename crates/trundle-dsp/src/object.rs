@@ -65,7 +65,11 @@
 //! when the ball moves (a few multiply–adds per mode: the mode shapes come from
 //! recurrences, not a sine per mode).
 
+pub mod fitted;
+
 use crate::material::Material;
+use fitted::{LoadedObject, BANDS, BAND_MODES, SIDE_SPREAD, TILT_REF_HZ};
+use std::sync::Arc;
 use crate::modal::{phasor_coeffs, LongBank, ModalBank, ModeCoeffs, LANES, LONG_MODE_SAMPLES};
 use crate::params::{ParamEnum, ParamId};
 use crate::shape::{PositionShapes, Shape, ShapeTables, MAX_MODES, REFERENCE_MODES};
@@ -349,6 +353,12 @@ pub struct Object {
     cull_ratio: f64,
     /// Modes currently culled (sounding but given no input).
     culled: usize,
+    /// A fitted object played instead of the shape × material × size recipe
+    /// ([`fitted`]).
+    loaded: Option<Arc<LoadedObject>>,
+    /// The level normalization of the last gain update (input gain per unit of mode
+    /// amplitude).
+    norm: f64,
 }
 
 impl Object {
@@ -400,6 +410,8 @@ impl Object {
             requested: c.modes.clamp(1, MAX_MODES),
             cull_ratio: db_to_power(Quality::default().cull_db()),
             culled: 0,
+            loaded: None,
+            norm: 0.0,
         };
         o.set_controls(c);
         o.snap_controls();
@@ -436,6 +448,11 @@ impl Object {
         self.listen_y.set_target(c.listen.1.clamp(-1.0, 1.0));
         self.width.set_target(c.width.clamp(0.0, 1.0));
         self.requested = c.modes.clamp(1, MAX_MODES);
+        if self.loaded.is_some() {
+            // A fitted object has no series: shape and mode count wait for the recipe.
+            self.shape = c.shape;
+            return;
+        }
         let modes = self.explicit_count();
         if c.shape != self.shape || modes != self.modes {
             self.shape = c.shape;
@@ -469,7 +486,8 @@ impl Object {
         );
         if p != self.ball {
             self.ball = p;
-            self.gains_dirty = true;
+            // A fitted object has no mode shapes: the ball's place changes nothing.
+            self.gains_dirty |= self.loaded.is_none();
         }
     }
 
@@ -483,7 +501,9 @@ impl Object {
     pub fn set_quality(&mut self, quality: Quality) {
         if quality != self.quality {
             self.quality = quality;
-            self.modes = self.explicit_count();
+            if self.loaded.is_none() {
+                self.modes = self.explicit_count();
+            }
             self.poles_dirty = true;
             self.set_cull_db(quality.cull_db());
         }
@@ -687,7 +707,44 @@ impl Object {
         self.width.value()
     }
 
+    /// Play a fitted object instead of the recipe (`None`: back to the recipe). Real-time
+    /// safe: no allocation; returns the previous fitted object, so the caller can drop it
+    /// off the audio thread. Applies at the next chunk; modes that no longer sound ring out
+    /// with no input (no click).
+    pub fn set_loaded(&mut self, object: Option<Arc<LoadedObject>>) -> Option<Arc<LoadedObject>> {
+        let old = core::mem::replace(&mut self.loaded, object);
+        if self.loaded.is_none() {
+            self.modes = self.explicit_count();
+        }
+        self.poles_dirty = true;
+        self.pickups_dirty = true;
+        self.gains_dirty = true;
+        old
+    }
+
+    /// The fitted object in play, if any.
+    pub fn loaded(&self) -> Option<&Arc<LoadedObject>> {
+        self.loaded.as_ref()
+    }
+
+    /// The input gain per unit of mode amplitude of the last gain update: the object's
+    /// impulse response divided by this is Σ aₖ·e^{−t/τₖ}·sin(2πfₖt) in the amplitudes'
+    /// own units (for a fitted object, the recording's full scale).
+    pub fn gain_norm(&self) -> f64 {
+        self.norm
+    }
+
     fn update(&mut self) {
+        if self.loaded.is_some() {
+            if self.poles_dirty {
+                self.update_poles_loaded();
+            }
+            self.pickups_dirty = false;
+            if self.gains_dirty {
+                self.update_gains_loaded();
+            }
+            return;
+        }
         if self.poles_dirty {
             self.update_poles();
         }
@@ -937,6 +994,7 @@ impl Object {
         } else {
             0.0
         };
+        self.norm = norm;
         let cull_below = loudest * self.cull_ratio;
         self.culled = 0;
         let mut last_active = 0;
@@ -972,6 +1030,177 @@ impl Object {
                 if self.slot_ringing(slot) {
                     tail = j + 1;
                 }
+            }
+        }
+        self.bank.set_active(last_active.div_ceil(LANES) * LANES);
+        self.bank.set_tail(HIGH_BASE, tail);
+        self.gains_dirty = false;
+    }
+
+    /// Poles of a fitted object ([`fitted`]): its loudest modes up to the quality's cap,
+    /// then the band part (the envelope plus the energy of the modes over the cap), every
+    /// one modified by `decay`, the material disk and `object_size`.
+    fn update_poles_loaded(&mut self) {
+        let Some(obj) = self.loaded.clone() else {
+            return;
+        };
+        let fs = self.fs;
+        let nyquist = 0.5 * fs;
+        let decay = self.log_decay.value().exp();
+        let transpose = 1.0 / self.log_size.value().exp();
+        let material = Material::from_disk(self.material_x.value(), self.material_y.value());
+        let neutral = Material::from_disk(
+            crate::params::ParamId::MaterialX.spec().default,
+            crate::params::ParamId::MaterialY.spec().default,
+        );
+        let law = |f: f64| neutral.damping_per_s(f) / material.damping_per_s(f);
+        let law_ref = law(TILT_REF_HZ);
+        let dtilt = material.tilt - neutral.tilt;
+        // τ' = τ·decay·tilt(f), a' = a·(f/f_ref)^Δtilt: exactly τ and a at the defaults.
+        let modify = |f: f64, tau: f64, a: f64| {
+            let k = if law_ref > 0.0 {
+                (law(f) / law_ref).clamp(1.0 / 20.0, 20.0)
+            } else {
+                1.0
+            };
+            let k = if k.is_finite() { k } else { 1.0 };
+            let tau = (tau * decay * k).clamp(crate::material::DECAY_MIN_S, crate::material::DECAY_MAX_S);
+            let a = if dtilt == 0.0 {
+                a
+            } else {
+                a * (f / TILT_REF_HZ).powf(dtilt)
+            };
+            (tau, a)
+        };
+        let cap = if self.quality == Quality::Reference {
+            REFERENCE_MODES - BANDS * BAND_MODES
+        } else {
+            self.quality.max_modes()
+        };
+        // Energy (a²τ) and energy × τ of the modes over the cap, per band.
+        let mut over = [(0.0f64, 0.0f64); BANDS];
+        let mut n = 0usize;
+        let span = self.modes.max(self.bank.active()).min(self.info.len());
+        let place = |o: &mut Self, k: usize, f: f64, tau: f64, g: f64, side: f64| {
+            o.info[k].freq_hz = f;
+            o.info[k].decay_s = tau;
+            o.amp[k] = g;
+            o.pick[k] = [side, 0.0];
+            let (c, s) = phasor_coeffs(f, tau, fs);
+            let mc = o.bank.mode(k);
+            o.bank.set_mode(k, ModeCoeffs { c, s, ..mc });
+        };
+        for m in obj.modes() {
+            let f = m.freq_hz * transpose;
+            if !(f < nyquist && f >= MIN_MODE_HZ) {
+                continue;
+            }
+            let (tau, g) = modify(f, m.decay_s, m.gain);
+            if n < cap {
+                place(self, n, f, tau, g, m.side);
+                n += 1;
+            } else {
+                let e = g * g * tau;
+                over[m.band].0 += e;
+                over[m.band].1 += e * tau;
+            }
+        }
+        let bands = obj.bands().iter().enumerate().filter(|_| obj.band_part());
+        for (i, b) in bands {
+            let f_mid = fitted::band_centre_hz(i) * transpose;
+            let (tau_env, a_env) = if b.amplitude > 0.0 {
+                modify(f_mid, b.decay_s, b.amplitude)
+            } else {
+                (0.0, 0.0)
+            };
+            let e_env = a_env * a_env * tau_env * BAND_MODES as f64;
+            let e = e_env + over[i].0;
+            if e <= 0.0 {
+                continue;
+            }
+            let tau = (e_env * tau_env + over[i].1) / e;
+            let a = (e / (BAND_MODES as f64 * tau)).sqrt();
+            for j in 0..BAND_MODES {
+                let f = LoadedObject::band_mode_hz(i, j) * transpose;
+                if f < nyquist && f >= MIN_MODE_HZ {
+                    place(
+                        self,
+                        n,
+                        f,
+                        tau,
+                        a * LoadedObject::band_sign(i, j),
+                        obj.band_side(i, j),
+                    );
+                    n += 1;
+                }
+            }
+        }
+        // Slots no longer in use ring out with their pole and no input.
+        for k in n..span {
+            self.amp[k] = 0.0;
+            if !self.slot_ringing(k) {
+                self.bank.set_mode(k, ModeCoeffs::default());
+            }
+        }
+        self.modes = n;
+        self.top = n;
+        let old_high = self.n_high;
+        self.n_high = 0;
+        for j in 0..old_high {
+            self.high[j].info.gain = 0.0;
+        }
+        self.assign_long_modes();
+        self.poles_dirty = false;
+        self.pickups_dirty = false;
+        self.gains_dirty = true;
+    }
+
+    /// Gains and side weights of a fitted object: the recipe's level law (a white force
+    /// gives the same loudness), culling, the pseudo-random stereo image ([`fitted`]).
+    fn update_gains_loaded(&mut self) {
+        let w = self.width.value();
+        let n = self.modes;
+        let (mut energy, mut loudest) = (0.0f64, 0.0f64);
+        for k in 0..n {
+            let p = self.amp[k] * self.amp[k] * self.info[k].decay_s;
+            energy += p;
+            loudest = loudest.max(p);
+        }
+        let norm = if energy > 0.0 {
+            OBJECT_LEVEL / (self.fs * energy.sqrt())
+        } else {
+            0.0
+        };
+        self.norm = norm;
+        let cull_below = loudest * self.cull_ratio;
+        self.culled = 0;
+        let mut last_active = 0;
+        for k in 0..n.max(self.bank.active()).min(self.info.len()) {
+            let sounding = k < n && self.amp[k] != 0.0;
+            let a = self.amp[k];
+            let culled = sounding && a * a * self.info[k].decay_s < cull_below;
+            self.culled += culled as usize;
+            let g = if sounding { a * norm } else { 0.0 };
+            let d = if sounding { w * SIDE_SPREAD * self.pick[k][0] } else { self.info[k].side };
+            self.info[k].gain = g;
+            self.info[k].side = d;
+            if sounding && !culled {
+                self.set_slot_gains(k, g, d);
+                last_active = k + 1;
+            } else {
+                self.set_slot_gains(k, 0.0, d);
+                if self.slot_ringing(k) || (sounding && culled) {
+                    last_active = k + 1;
+                }
+            }
+        }
+        let mut tail = 0;
+        for j in 0..HIGH_SLOTS_MAX {
+            let slot = HIGH_BASE + j;
+            let d = self.high[j].info.side;
+            self.set_slot_gains(slot, 0.0, d);
+            if self.slot_ringing(slot) {
+                tail = j + 1;
             }
         }
         self.bank.set_active(last_active.div_ceil(LANES) * LANES);

@@ -27,12 +27,20 @@
 //!   notes ([`crate::balls`]): `[{"note": 60, "velocity": 0.7, "start_s": 0, "stop_s": 2}]`
 //!   (note 0–127: pitch → size; velocity 0–1 → speed; `stop_s` optional = until the end).
 //!   In a DAW, MIDI notes play this role.
+//! * `object` (optional) replaces the recipe object (shape × material × size) by a fitted
+//!   one, inline: the content of a `*.object.json` file (`trundle fit-object`,
+//!   [`crate::object::fitted`]), validated like the file. Inline rather than a path, so a
+//!   preset is one self-contained file and the presets embedded in the binary carry their
+//!   object. The material, decay, size and width controls then act on it as modifiers
+//!   ([`crate::object::fitted`]).
 //! * Every `presets/*.json` of the repository is embedded at build time
 //!   ([`BUILTIN_PRESETS`]), so a plugin bundle is self-contained.
 
+use crate::object::fitted::{self, LoadedObject, ObjectFile};
 use crate::params::{spec_by_key, ParamError, ParamId, ParamKind, ParamSpec, Params, PARAMS};
 use core::fmt;
 use serde_json::{Map, Value};
+use std::sync::Arc;
 
 include!(concat!(env!("OUT_DIR"), "/builtin_presets.rs"));
 
@@ -62,6 +70,8 @@ pub struct Preset {
     pub automation: Vec<Lane>,
     /// Extra balls of the scene (empty for one ball).
     pub balls: Vec<BallNote>,
+    /// A fitted object replacing the recipe object (`None`: the recipe).
+    pub object: Option<ObjectFile>,
 }
 
 /// One extra ball of a scene: a note held from `start_s` to `stop_s`.
@@ -130,6 +140,8 @@ pub enum PresetError {
     Automation(String),
     /// A malformed ball list.
     Balls(String),
+    /// A malformed fitted object.
+    Object(String),
 }
 
 impl fmt::Display for PresetError {
@@ -144,6 +156,7 @@ impl fmt::Display for PresetError {
             PresetError::Param(e) => write!(f, "{e}"),
             PresetError::Automation(e) => write!(f, "automation: {e}"),
             PresetError::Balls(e) => write!(f, "balls: {e}"),
+            PresetError::Object(e) => write!(f, "object: {e}"),
             PresetError::UnknownBuiltin(n) => {
                 write!(f, "no built-in preset '{n}' (available: ")?;
                 for (i, (stem, _)) in BUILTIN_PRESETS.iter().enumerate() {
@@ -177,7 +190,13 @@ impl Preset {
         for key in obj.keys() {
             if !matches!(
                 key.as_str(),
-                "trundle_preset" | "name" | "description" | "params" | "automation" | "balls"
+                "trundle_preset"
+                    | "name"
+                    | "description"
+                    | "params"
+                    | "automation"
+                    | "balls"
+                    | "object"
             ) {
                 return Err(PresetError::Syntax(format!("unknown field '{key}'")));
             }
@@ -223,6 +242,13 @@ impl Preset {
             None => Vec::new(),
             Some(v) => parse_balls(v)?,
         };
+        let object = match obj.get("object") {
+            None => None,
+            Some(v) => {
+                let (object, source) = fitted::from_json(v).map_err(PresetError::Object)?;
+                Some(ObjectFile { object, source })
+            }
+        };
         // A static load (the plugin) takes each lane's first value.
         for lane in &automation {
             params.set(lane.id, lane.points[0].1)?;
@@ -233,7 +259,36 @@ impl Preset {
             params,
             automation,
             balls,
+            object,
         })
+    }
+
+    /// The preset's fitted object prepared for a voice (`None` for the recipe object).
+    ///
+    /// # Allocation
+    /// Allocates: call off the audio thread.
+    pub fn loaded_object(&self) -> Result<Option<Arc<LoadedObject>>, PresetError> {
+        match &self.object {
+            None => Ok(None),
+            Some(file) => LoadedObject::shared(file.clone())
+                .map(Some)
+                .map_err(PresetError::Object),
+        }
+    }
+
+    /// A voice playing the preset's parameters and its fitted object, if it has one (an
+    /// object that fails validation — only possible for a preset built in code — is left
+    /// out: the recipe plays).
+    ///
+    /// # Allocation
+    /// Allocates (a new voice).
+    pub fn new_voice(&self, sample_rate_hz: f64) -> crate::Voice {
+        let mut voice = crate::Voice::new(sample_rate_hz, &self.params);
+        if let Ok(Some(o)) = self.loaded_object() {
+            voice.set_loaded_object(Some(o));
+            voice.reset();
+        }
+        voice
     }
 
     /// The extra balls as note events at their samples (`start_s`, `stop_s` rounded to
@@ -316,6 +371,9 @@ impl Preset {
                 })
                 .collect();
             top.insert("balls".into(), Value::Array(list));
+        }
+        if let Some(o) = &self.object {
+            top.insert("object".into(), fitted::to_json(&o.object, &o.source));
         }
         serde_json::to_string_pretty(&Value::Object(top)).expect("a JSON value always serializes")
     }

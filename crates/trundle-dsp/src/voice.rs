@@ -25,7 +25,9 @@
 use crate::balls::{BallId, BallPool, BallTarget, Expression};
 use crate::dcblock::DcBlock;
 use crate::engine_mix::EngineMix;
+use crate::object::fitted::LoadedObject;
 use crate::object::{Object, ObjectControls};
+use std::sync::Arc;
 use crate::params::{ParamId, Params};
 use crate::physics::PhysicsEngine;
 use crate::smooth::Smoother;
@@ -106,7 +108,8 @@ fn space_controls(p: &Params) -> SpaceControls {
     }
 }
 
-fn object_controls(p: &Params) -> ObjectControls {
+/// The object controls of a parameter set (as the voice maps them).
+pub fn object_controls(p: &Params) -> ObjectControls {
     ObjectControls {
         material_x: p.get(ParamId::MaterialX),
         material_y: p.get(ParamId::MaterialY),
@@ -164,6 +167,28 @@ impl Voice {
         }
         v.reset();
         v
+    }
+
+    /// Play a fitted object ([`crate::object::fitted`]) instead of the recipe object
+    /// (shape × material × size); `None` goes back to the recipe. The object is prepared
+    /// off the audio thread ([`LoadedObject::new`] allocates); this call is real-time safe:
+    /// no allocation, and it returns the previous fitted object so that the caller drops
+    /// it (and frees it) off the audio thread. Applies at the next chunk; the modes that no
+    /// longer sound ring out (no click). The object's twins (the level match) follow.
+    pub fn set_loaded_object(
+        &mut self,
+        object: Option<Arc<LoadedObject>>,
+    ) -> Option<Arc<LoadedObject>> {
+        for t in &mut self.twins {
+            // The twins' previous references are never the last: `self.object` holds one.
+            drop(t.set_loaded(object.clone()));
+        }
+        self.object.set_loaded(object)
+    }
+
+    /// The fitted object the voice plays, if any.
+    pub fn loaded_object(&self) -> Option<&Arc<LoadedObject>> {
+        self.object.loaded()
     }
 
     /// Choose the physics engine's RK4 substeps per output sample, 1..=8 (the accuracy knob

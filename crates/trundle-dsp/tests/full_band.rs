@@ -31,6 +31,11 @@ fn render(preset: &Preset, tweak: impl Fn(&mut Params), high_band: bool) -> (Vec
     let mut params = preset.params;
     tweak(&mut params);
     let mut voice = Voice::new(FS, &params);
+    if let Some(o) = preset.loaded_object().unwrap() {
+        // A fitted object (the preset's "object" entry) replaces the recipe.
+        voice.set_loaded_object(Some(o));
+        voice.reset();
+    }
     voice.set_high_band(high_band);
     let notes = preset.note_events(FS);
     let mut scene = Scene::new(params, &preset.automation, &notes, FS);

@@ -15,7 +15,7 @@ fn db(x: f64) -> f64 {
 
 /// Peak and RMS (dBFS) over both channels of a preset rendered for `seconds`.
 fn preset_levels(preset: &Preset, seconds: f64) -> (f64, f64) {
-    let mut voice = Voice::new(FS, &preset.params);
+    let mut voice = preset.new_voice(FS);
     let notes = preset.note_events(FS);
     let mut scene = Scene::new(preset.params, &preset.automation, &notes, FS);
     let n = (seconds * FS) as usize;
@@ -92,6 +92,10 @@ fn the_limiter_rarely_acts() {
     use trundle_dsp::ParamId;
     let touched = |p: &Params, preset: Option<&Preset>| {
         let mut voice = Voice::new(FS, p);
+        if let Some(o) = preset.and_then(|pr| pr.loaded_object().unwrap()) {
+            voice.set_loaded_object(Some(o));
+            voice.reset();
+        }
         let n = (6.0 * FS) as usize;
         let (mut l, mut r) = (vec![0f32; n], vec![0f32; n]);
         match preset {

@@ -9,16 +9,7 @@
 
 use realfft::RealFftPlanner;
 
-/// One band of the residual's spectral envelope.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct EnvelopeBand {
-    /// Third-octave centre frequency (Hz).
-    pub centre_hz: f64,
-    /// The band's energy relative to the whole recording's (dB).
-    pub level_db: f64,
-    /// 1/e amplitude decay time (s), bounded to 0.2 ms … 60 s.
-    pub decay_s: f64,
-}
+pub use crate::object::fitted::EnvelopeBand;
 
 /// Short-time power spectra: (frames × bins, frame length, hop).
 fn stft(x: &[f64], sample_rate_hz: f64) -> (Vec<Vec<f64>>, usize, usize) {

@@ -32,40 +32,7 @@ use nalgebra::Complex;
 
 pub use envelope::{log_spectral_distance_db, third_octave_envelope, EnvelopeBand};
 
-/// One fitted mode: aₖ·e^{−t/τₖ}·cos(2πfₖt + φₖ), t in seconds from the start of the free decay ([`FittedObject::onset_s`]).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct FitMode {
-    /// Frequency fₖ (Hz).
-    pub freq_hz: f64,
-    /// 1/e amplitude decay time τₖ (s).
-    pub decay_s: f64,
-    /// Amplitude aₖ at t = 0 (full scale = 1).
-    pub amplitude: f64,
-    /// Phase φₖ at t = 0 (rad).
-    pub phase_rad: f64,
-}
-
-/// A fitted object: the modes, the residual's spectral envelope and how well it fits.
-#[derive(Clone, Debug, PartialEq)]
-pub struct FittedObject {
-    /// Sample rate of the recording (Hz).
-    pub sample_rate_hz: f64,
-    /// The modes, ascending in frequency.
-    pub modes: Vec<FitMode>,
-    /// Third-octave envelope of what the modes leave unexplained.
-    pub envelope: Vec<EnvelopeBand>,
-    /// The modal analysis covered [lo, hi) Hz.
-    pub modal_range_hz: (f64, f64),
-    /// Start of the free decay in the recording (s): the strike's peak within 20 ms of its
-    /// onset, t = 0 of the modes (the attack before it is the contact, not the object).
-    pub onset_s: f64,
-    /// Length of the fitted free decay (s).
-    pub duration_s: f64,
-    /// Residual energy relative to the signal's over the fitted decay (dB).
-    pub residual_db: f64,
-    /// Peak |x| of the recording (full scale = 1).
-    pub peak: f64,
-}
+pub use crate::object::fitted::{FitMode, FittedObject};
 
 /// Why a recording is not one decaying strike.
 #[derive(Clone, Debug, PartialEq)]

@@ -1,0 +1,746 @@
+//! A fitted object (`trundle fit-object`, [`crate::fit`]) as the voice's object.
+//!
+//! [`FittedObject`] is the object file's content (modes and the third-octave envelope of
+//! what they leave unexplained; the file format is [`from_json`] / [`to_json`]).
+//! [`LoadedObject::new`] validates it and prepares it for the bank — off the audio thread,
+//! it allocates — and [`crate::Voice::set_loaded_object`] swaps it in without allocating.
+//!
+//! ## How a fitted object is played (docs/MODEL.md §6, "Fitted objects")
+//! * **Modes.** Each fitted mode aₖ·e^{−t/τₖ}·cos(2πfₖt + φₖ) becomes an explicit mode of the
+//!   bank with its frequency and decay. The bank's modes have a real input gain (switching
+//!   one never clicks, [`crate::modal`]), so every mode's impulse response starts in sine
+//!   phase: the fitted phase φₖ is reduced to the sign of the gain, sₖ = sign(−sin φₖ)
+//!   (the sine component of the fitted cosine), and the amplitude aₖ is kept. Energy and
+//!   spectrum are kept; the waveform of the first milliseconds is not.
+//! * **The band part.** Each third-octave band of the envelope (level Lᵦ relative to the
+//!   recording's energy, decay τᵦ) is played by [`BAND_MODES`] modes spread evenly (in log
+//!   frequency) through the band, each with the band's decay and a third of its energy:
+//!   a short-decay mode is a band of noise once the force is noise, and an impulse gives
+//!   the band's decaying burst. The recording's energy is estimated from the modes' and
+//!   the envelope's shares (E = Σaₖ²τₖ·(1 − e^{−2D/τₖ}) / (1 − Σ10^{Lᵦ/10})), so modes and
+//!   band part keep the recording's balance.
+//! * **Quality.** [`crate::object::Quality::max_modes`] caps the explicit fitted modes
+//!   (16 / 64 / 256 / 256 / all), loudest (aₖ²τₖ) first; the energy of the others is added
+//!   to the band part of their third-octave band (at the energy-weighted decay), so a lower
+//!   quality keeps the object's spectrum and loudness.
+//! * **Sample rate.** Frequencies and decays are in Hz and seconds: a fitted object plays
+//!   at any rate; modes and bands at or above Nyquist are dropped.
+//! * **Stereo.** A fitted object has no mode shapes; each mode gets a deterministic
+//!   pseudo-random side weight dₖ = w·[`SIDE_SPREAD`]·uₖ, uₖ ∈ [−1, 1] from its index, so
+//!   L = g(1 + d), R = g(1 − d) and L + R is the mono object at every width, as for the
+//!   built-in objects.
+//! * **Controls as modifiers.** `decay` scales every decay time; the material disk tilts
+//!   decays and gains with frequency relative to its default point (the ratio of the two
+//!   damping laws, normalized at [`TILT_REF_HZ`], bounded to ×1/20 … ×20, and the amplitude
+//!   tilt (f/1 kHz)^{tilt − tilt₀}); `object_size` transposes (f × 1 m/size, 1 m = as
+//!   fitted); `width` spreads the image. The ball position, the listening point, `shape`
+//!   and `modes` are ignored (no mode shapes, no series). At the parameters' defaults the
+//!   object plays exactly as fitted.
+
+use std::sync::Arc;
+
+/// One fitted mode: aₖ·e^{−t/τₖ}·cos(2πfₖt + φₖ), t in seconds from the start of the free
+/// decay ([`FittedObject::onset_s`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FitMode {
+    /// Frequency fₖ (Hz).
+    pub freq_hz: f64,
+    /// 1/e amplitude decay time τₖ (s).
+    pub decay_s: f64,
+    /// Amplitude aₖ at t = 0 (full scale = 1).
+    pub amplitude: f64,
+    /// Phase φₖ at t = 0 (rad).
+    pub phase_rad: f64,
+}
+
+/// One band of the residual's spectral envelope.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EnvelopeBand {
+    /// Third-octave centre frequency (Hz).
+    pub centre_hz: f64,
+    /// The band's energy relative to the whole recording's (dB).
+    pub level_db: f64,
+    /// 1/e amplitude decay time (s), bounded to 0.2 ms … 60 s.
+    pub decay_s: f64,
+}
+
+/// A fitted object: the modes, the residual's spectral envelope and how well it fits.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FittedObject {
+    /// Sample rate of the recording (Hz).
+    pub sample_rate_hz: f64,
+    /// The modes, ascending in frequency.
+    pub modes: Vec<FitMode>,
+    /// Third-octave envelope of what the modes leave unexplained.
+    pub envelope: Vec<EnvelopeBand>,
+    /// The modal analysis covered [lo, hi) Hz.
+    pub modal_range_hz: (f64, f64),
+    /// Start of the free decay in the recording (s): the strike's peak within 20 ms of its
+    /// onset, t = 0 of the modes (the attack before it is the contact, not the object).
+    pub onset_s: f64,
+    /// Length of the fitted free decay (s).
+    pub duration_s: f64,
+    /// Residual energy relative to the signal's over the fitted decay (dB).
+    pub residual_db: f64,
+    /// Peak |x| of the recording (full scale = 1).
+    pub peak: f64,
+}
+
+/// The object file version this build writes and reads.
+pub const OBJECT_VERSION: u64 = 1;
+
+/// Longest decay an object file may give (s): beyond it a mode does not decay.
+pub const MAX_DECAY_S: f64 = 3600.0;
+
+/// Largest amplitude an object file may give (full scale = 1).
+pub const MAX_AMPLITUDE: f64 = 1000.0;
+
+/// Modes per third-octave band of the band part.
+pub const BAND_MODES: usize = 3;
+
+/// Third-octave bands of the envelope: centres 1000·2^{k/3} Hz, k = −17 … 13 (20 Hz … 20 kHz).
+pub const BANDS: usize = 31;
+
+/// Most fitted modes a loaded object keeps (the loudest).
+pub const MAX_FITTED_MODES: usize = 2048;
+
+/// Largest side weight of a fitted mode at width 1.
+pub const SIDE_SPREAD: f64 = 0.6;
+
+/// The material disk's tilt is normalized here (Hz): decays at this frequency are scaled by
+/// `decay` only.
+pub const TILT_REF_HZ: f64 = 1000.0;
+
+/// Band index (0 … [`BANDS`] − 1) of a frequency: the nearest third-octave centre.
+pub fn band_index(freq_hz: f64) -> usize {
+    let k = (3.0 * (freq_hz.max(1.0) / 1000.0).log2()).round() + 17.0;
+    k.clamp(0.0, (BANDS - 1) as f64) as usize
+}
+
+/// Centre frequency of band `i` (Hz).
+pub fn band_centre_hz(i: usize) -> f64 {
+    1000.0 * 2f64.powf((i as f64 - 17.0) / 3.0)
+}
+
+impl FittedObject {
+    /// Check every number: finite; frequencies in (0, f_s/2) of the recording, decays
+    /// positive, amplitudes not negative; the error names the field (`modes[3].freq_hz`).
+    pub fn validate(&self) -> Result<(), String> {
+        let fs = self.sample_rate_hz;
+        if !(fs.is_finite() && (1000.0..=1e7).contains(&fs)) {
+            return Err(format!(
+                "\"sample_rate_hz\" must be a sample rate in Hz (1000 … 10⁷), got {fs}"
+            ));
+        }
+        if self.modes.len() > 100_000 || self.envelope.len() > 1000 {
+            return Err("too many modes or envelope bands (at most 100000 and 1000)".into());
+        }
+        for (i, m) in self.modes.iter().enumerate() {
+            let field = |f: &str| format!("modes[{i}].{f}");
+            for (name, v) in [
+                ("freq_hz", m.freq_hz),
+                ("decay_s", m.decay_s),
+                ("amplitude", m.amplitude),
+                ("phase_rad", m.phase_rad),
+            ] {
+                if !v.is_finite() {
+                    return Err(format!("{} must be a finite number, got {v}", field(name)));
+                }
+            }
+            if !(m.freq_hz > 0.0 && m.freq_hz < 0.5 * fs) {
+                return Err(format!(
+                    "{} = {} Hz is outside (0, {} Hz), half the sample rate",
+                    field("freq_hz"),
+                    m.freq_hz,
+                    0.5 * fs
+                ));
+            }
+            if !(m.decay_s > 0.0 && m.decay_s <= MAX_DECAY_S) {
+                return Err(format!(
+                    "{} = {} must be positive and at most {MAX_DECAY_S} s",
+                    field("decay_s"),
+                    m.decay_s
+                ));
+            }
+            if !(0.0..=MAX_AMPLITUDE).contains(&m.amplitude) {
+                return Err(format!(
+                    "{} = {} must be between 0 and {MAX_AMPLITUDE} (full scale = 1)",
+                    field("amplitude"),
+                    m.amplitude
+                ));
+            }
+            if m.phase_rad.abs() > 1e3 {
+                return Err(format!("{} = {} is not a phase", field("phase_rad"), m.phase_rad));
+            }
+        }
+        for (i, b) in self.envelope.iter().enumerate() {
+            let field = |f: &str| format!("envelope[{i}].{f}");
+            for (name, v) in [
+                ("centre_hz", b.centre_hz),
+                ("level_db", b.level_db),
+                ("decay_s", b.decay_s),
+            ] {
+                if !v.is_finite() {
+                    return Err(format!("{} must be a finite number, got {v}", field(name)));
+                }
+            }
+            if !(b.centre_hz > 0.0 && b.centre_hz < 0.5 * fs) {
+                return Err(format!(
+                    "{} = {} Hz is outside (0, {} Hz), half the sample rate",
+                    field("centre_hz"),
+                    b.centre_hz,
+                    0.5 * fs
+                ));
+            }
+            if !(b.decay_s > 0.0 && b.decay_s <= MAX_DECAY_S) {
+                return Err(format!(
+                    "{} = {} must be positive and at most {MAX_DECAY_S} s",
+                    field("decay_s"),
+                    b.decay_s
+                ));
+            }
+            if !(-400.0..=60.0).contains(&b.level_db) {
+                return Err(format!(
+                    "{} = {} dB is outside −400 … 60 dB",
+                    field("level_db"),
+                    b.level_db
+                ));
+            }
+        }
+        for (name, v, lo, hi) in [
+            ("duration_s", self.duration_s, 0.0, 1e6),
+            ("residual_db", self.residual_db, -400.0, 100.0),
+            ("onset_s", self.onset_s, 0.0, 1e6),
+            ("peak", self.peak, 0.0, 1e3),
+            ("modal_range_hz[0]", self.modal_range_hz.0, 0.0, 1e7),
+            ("modal_range_hz[1]", self.modal_range_hz.1, 0.0, 1e7),
+        ] {
+            if !(v.is_finite() && (lo..=hi).contains(&v)) {
+                return Err(format!("\"{name}\" must be a number in {lo} … {hi}, got {v}"));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// An object file's content with the name of the recording it came from.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ObjectFile {
+    /// The fitted object.
+    pub object: FittedObject,
+    /// The recording's file name (`"source"`; may be empty).
+    pub source: String,
+}
+
+/// A mode of a [`LoadedObject`], ready for the bank.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LoadedMode {
+    /// Frequency (Hz) as fitted.
+    pub freq_hz: f64,
+    /// Decay (s) as fitted.
+    pub decay_s: f64,
+    /// Signed amplitude sₖ·aₖ (module docs).
+    pub gain: f64,
+    /// Side unit uₖ ∈ [−1, 1] (the side weight is w·[`SIDE_SPREAD`]·uₖ).
+    pub side: f64,
+    /// Third-octave band ([`band_index`]) where its energy goes when the quality drops it.
+    pub band: usize,
+}
+
+/// A band of the band part of a [`LoadedObject`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LoadedBand {
+    /// Amplitude of each of its [`BAND_MODES`] modes (0: the band is silent).
+    pub amplitude: f64,
+    /// Decay (s).
+    pub decay_s: f64,
+}
+
+/// A fitted object prepared for the bank: validated, modes in loudness order with their
+/// gains and side units, the band part's amplitudes. Built off the audio thread
+/// ([`LoadedObject::new`] allocates) and shared by `Arc` with the voice's objects.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LoadedObject {
+    file: ObjectFile,
+    modes: Vec<LoadedMode>,
+    bands: [LoadedBand; BANDS],
+    /// Side units of the band modes.
+    band_side: [[f64; BAND_MODES]; BANDS],
+    /// The band part plays (see [`LoadedObject::with_band_part`]).
+    band_part: bool,
+}
+
+/// Modes shorter than this (s) get the correction for the energy their phase gains
+/// (below), and lend their decay to the energy it loses.
+pub const SHORT_MODE_S: f64 = 0.05;
+
+/// The span [`phase_energies`] synthesizes at most (s).
+pub const PHASE_SPAN_S: f64 = 0.5;
+
+/// Per third-octave band, the energy (a²τ units: 4 × ∫y²dt) of the modes with their fitted
+/// phases, and as the bank plays them (sine phase, signed gain): both sums synthesized at
+/// the recording's rate over the fitted span (at most [`PHASE_SPAN_S`], its last 30 %
+/// faded out identically) and measured through third-octave band-pass filters (two
+/// cascaded RBJ band-pass biquads per band). What differs is mostly the onset: a mode that
+/// starts at aₖ·cos φₖ (a step: the strike's click, a skirt falling as 1/f) against one
+/// that starts at zero (1/f²), and overlapping short modes that add up differently.
+/// Offline, in [`LoadedObject::new`].
+fn phase_energies(fit: &FittedObject) -> ([f64; BANDS], [f64; BANDS], [bool; BANDS]) {
+    use core::f64::consts::{PI, TAU};
+    let mut exact = [0.0; BANDS];
+    let mut sine = [0.0; BANDS];
+    let mut has = [false; BANDS];
+    let fs = fit.sample_rate_hz;
+    let short: Vec<&FitMode> = fit.modes.iter().filter(|m| m.amplitude > 0.0).collect();
+    if short.is_empty() {
+        return (exact, sine, has);
+    }
+    for m in short.iter().filter(|m| m.decay_s < SHORT_MODE_S) {
+        has[band_index(m.freq_hz)] = true;
+    }
+    let span = if fit.duration_s > 0.0 {
+        fit.duration_s.min(PHASE_SPAN_S)
+    } else {
+        PHASE_SPAN_S
+    };
+    let len = (span * fs).ceil() as usize + 1;
+    let (mut xe, mut xs) = (vec![0.0f64; len], vec![0.0f64; len]);
+    for m in &short {
+        let r = (-1.0 / (m.decay_s * fs)).exp();
+        let (sw, cw) = (TAU * m.freq_hz / fs).sin_cos();
+        let sgn = if -m.phase_rad.sin() < 0.0 { -1.0 } else { 1.0 };
+        // z = a·e^{iφ}·pⁿ: Re z is the fitted mode, Im of a·pⁿ the played one.
+        let (mut zr, mut zi) = (m.amplitude * m.phase_rad.cos(), m.amplitude * m.phase_rad.sin());
+        let (mut ur, mut ui) = (m.amplitude, 0.0);
+        for n in 0..len {
+            xe[n] += zr;
+            xs[n] += sgn * ui;
+            let (a, b) = (r * (zr * cw - zi * sw), r * (zr * sw + zi * cw));
+            zr = a;
+            zi = b;
+            let (a, b) = (r * (ur * cw - ui * sw), r * (ur * sw + ui * cw));
+            ur = a;
+            ui = b;
+            if ur.abs() + ui.abs() < 1e-9 * m.amplitude {
+                break;
+            }
+        }
+    }
+    let fade = len * 7 / 10;
+    for n in fade..len {
+        let w = 0.5 * (1.0 + (PI * (n - fade) as f64 / (len - fade) as f64).cos());
+        xe[n] *= w;
+        xs[n] *= w;
+    }
+    let q = 1.0 / (2f64.powf(1.0 / 6.0) - 2f64.powf(-1.0 / 6.0));
+    for i in 0..BANDS {
+        let f0 = band_centre_hz(i);
+        if f0 >= 0.45 * fs {
+            break;
+        }
+        let w0 = TAU * f0 / fs;
+        let alpha = w0.sin() / (2.0 * q);
+        let a0 = 1.0 + alpha;
+        let (b0, b2, a1, a2) = (alpha / a0, -alpha / a0, -2.0 * w0.cos() / a0, (1.0 - alpha) / a0);
+        let energy = |x: &[f64]| {
+            let mut st = [[0.0f64; 4]; 2];
+            let mut e = 0.0;
+            for &v in x {
+                let mut y = v;
+                for s in st.iter_mut() {
+                    let out = b0 * y + b2 * s[1] - a1 * s[2] - a2 * s[3];
+                    s[1] = s[0];
+                    s[0] = y;
+                    s[3] = s[2];
+                    s[2] = out;
+                    y = out;
+                }
+                e += y * y;
+            }
+            4.0 * e / fs
+        };
+        exact[i] = energy(&xe);
+        sine[i] = energy(&xs);
+    }
+    (exact, sine, has)
+}
+
+/// SplitMix64: the deterministic side units and signs.
+fn mix(mut z: u64) -> u64 {
+    z = z.wrapping_add(0x9e37_79b9_7f4a_7c15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^ (z >> 31)
+}
+
+fn unit(z: u64) -> f64 {
+    (mix(z) >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+}
+
+impl LoadedObject {
+    /// Validate and prepare (allocates: call off the audio thread). Keeps at most
+    /// [`MAX_FITTED_MODES`] modes, the loudest.
+    pub fn new(file: ObjectFile) -> Result<Self, String> {
+        let fit = &file.object;
+        fit.validate()?;
+        let d = fit.duration_s;
+        let held = |tau: f64| {
+            if d > 0.0 {
+                1.0 - (-2.0 * d / tau).exp()
+            } else {
+                1.0
+            }
+        };
+        let mut modes: Vec<LoadedMode> = fit
+            .modes
+            .iter()
+            .enumerate()
+            .filter(|(_, m)| m.amplitude > 0.0)
+            .map(|(i, m)| LoadedMode {
+                freq_hz: m.freq_hz,
+                decay_s: m.decay_s,
+                gain: if -m.phase_rad.sin() < 0.0 {
+                    -m.amplitude
+                } else {
+                    m.amplitude
+                },
+                side: unit(i as u64),
+                band: band_index(m.freq_hz),
+            })
+            .collect();
+        let energy = |m: &LoadedMode| m.gain * m.gain * m.decay_s;
+        modes.sort_by(|a, b| energy(b).total_cmp(&energy(a)));
+        modes.truncate(MAX_FITTED_MODES);
+        let e_modes: f64 = modes
+            .iter()
+            .map(|m| m.gain * m.gain * m.decay_s * held(m.decay_s))
+            .sum();
+        let env_share: f64 = fit
+            .envelope
+            .iter()
+            .map(|b| 10f64.powf(b.level_db.min(0.0) / 10.0))
+            .sum();
+        let e_rec = if e_modes > 0.0 {
+            e_modes / (1.0 - env_share).max(0.1)
+        } else {
+            // No modes: the envelope alone, at a nominal level (the voice normalizes).
+            1.0
+        };
+        // Per band, the band part's energy (a²τ units) and energy × decay.
+        let mut acc = [(0.0f64, 0.0f64); BANDS];
+        for b in &fit.envelope {
+            if b.level_db < -120.0 {
+                continue;
+            }
+            let i = band_index(b.centre_hz);
+            let tau = b.decay_s.clamp(crate::material::DECAY_MIN_S, crate::material::DECAY_MAX_S);
+            let e = 10f64.powf(b.level_db.min(0.0) / 10.0) * e_rec / held(tau);
+            acc[i].0 += e;
+            acc[i].1 += e * tau;
+        }
+        // What the sine phase changes: per band, the energy of the modes with their fitted
+        // phases against the energy of the modes as played ([`phase_energies`]). Energy
+        // lost (the strike's click, overlapping short modes that added up in phase) goes to
+        // the band part, ringing for the band's own time; energy gained (the sine phase's
+        // slower skirts, short modes that cancelled) scales the band's short modes down.
+        let (exact, played, has_short) = phase_energies(fit);
+        let mut mode_scale = [1.0f64; BANDS];
+        for i in 0..BANDS {
+            let (ex, pl) = (exact[i], played[i]);
+            if !has_short[i] && ex <= pl {
+                continue;
+            }
+            if ex > pl {
+                // The click: it rings for the band's own time, 1/(π·bandwidth).
+                let bw = band_centre_hz(i) * (2f64.powf(1.0 / 6.0) - 2f64.powf(-1.0 / 6.0));
+                let tau = 1.0 / (core::f64::consts::PI * bw);
+                let e = ex - pl;
+                acc[i].0 += e;
+                acc[i].1 += e * tau;
+            } else if pl > 0.0 {
+                mode_scale[i] = (ex / pl).max(0.01).sqrt();
+            }
+        }
+        for m in modes.iter_mut().filter(|m| m.decay_s < SHORT_MODE_S) {
+            m.gain *= mode_scale[m.band];
+        }
+        let mut bands = [LoadedBand {
+            amplitude: 0.0,
+            decay_s: 0.0,
+        }; BANDS];
+        for (i, &(e, et)) in acc.iter().enumerate() {
+            if e > 0.0 {
+                let tau = (et / e).clamp(crate::material::DECAY_MIN_S, crate::material::DECAY_MAX_S);
+                bands[i] = LoadedBand {
+                    amplitude: (e / (BAND_MODES as f64 * tau)).sqrt(),
+                    decay_s: tau,
+                };
+            }
+        }
+        let mut band_side = [[0.0; BAND_MODES]; BANDS];
+        for (i, s) in band_side.iter_mut().enumerate() {
+            for (j, x) in s.iter_mut().enumerate() {
+                *x = unit(0x5eed_0000 + (i * BAND_MODES + j) as u64);
+            }
+        }
+        Ok(Self {
+            file,
+            modes,
+            bands,
+            band_side,
+            band_part: true,
+        })
+    }
+
+    /// Prepare and share (allocates).
+    pub fn shared(file: ObjectFile) -> Result<Arc<Self>, String> {
+        Self::new(file).map(Arc::new)
+    }
+
+    /// Switch the band part off (the modes alone, with the quality's cap dropping the
+    /// others) or on (the default): for measuring what it adds.
+    pub fn with_band_part(mut self, on: bool) -> Self {
+        self.band_part = on;
+        self
+    }
+
+    /// True when the band part plays.
+    pub fn band_part(&self) -> bool {
+        self.band_part
+    }
+
+    /// The object file it was built from.
+    pub fn file(&self) -> &ObjectFile {
+        &self.file
+    }
+
+    /// The modes, loudest (aₖ²τₖ) first.
+    pub fn modes(&self) -> &[LoadedMode] {
+        &self.modes
+    }
+
+    /// The band part, by band index.
+    pub fn bands(&self) -> &[LoadedBand; BANDS] {
+        &self.bands
+    }
+
+    /// Side unit of mode `j` of band `i`.
+    pub fn band_side(&self, i: usize, j: usize) -> f64 {
+        self.band_side[i][j]
+    }
+
+    /// Sign of the gain of mode `j` of band `i` (deterministic, alternating in effect).
+    pub fn band_sign(i: usize, j: usize) -> f64 {
+        if mix(0xb00d + (i * BAND_MODES + j) as u64) & 1 == 0 {
+            1.0
+        } else {
+            -1.0
+        }
+    }
+
+    /// Frequency of mode `j` of band `i` (Hz, before transposition): evenly spread in log
+    /// frequency through the third-octave band.
+    pub fn band_mode_hz(i: usize, j: usize) -> f64 {
+        band_centre_hz(i) * 2f64.powf(((j as f64 + 0.5) / BAND_MODES as f64 - 0.5) / 3.0)
+    }
+}
+
+/// The impulse response ends this far under its peak (dB).
+pub const IMPULSE_FLOOR_DB: f64 = -90.0;
+
+/// The object struck once by a unit impulse (`trundle render --impulse`): no ball, no
+/// source; `object`, or the recipe object of `params` when `None`, with `params`'
+/// controls. Returns L and R scaled to the modes' own amplitude units
+/// ([`Object::gain_norm`](crate::object::Object::gain_norm)): for a fitted object, the
+/// recording's full scale, (L + R)/2 = Σ sₖ·aₖ·e^{−t/τₖ}·sin(2πfₖt) plus the band part.
+/// `max_frames` long when `fixed_length`, else until it has decayed by
+/// [`IMPULSE_FLOOR_DB`] (held for 50 ms) or `max_frames`.
+///
+/// # Allocation
+/// Allocates (an offline render).
+pub fn impulse_response(
+    params: &crate::Params,
+    object: Option<Arc<LoadedObject>>,
+    sample_rate_hz: f64,
+    max_frames: usize,
+    fixed_length: bool,
+) -> (Vec<f32>, Vec<f32>) {
+    use crate::params::ParamId;
+    use crate::CHUNK;
+    let controls = crate::voice::object_controls(params);
+    let mut obj = crate::object::Object::new(sample_rate_hz, controls);
+    obj.set_quality(params.quality());
+    obj.set_controls(controls);
+    obj.set_ball((
+        params.get(ParamId::PositionX),
+        params.get(ParamId::PositionY),
+    ));
+    obj.set_loaded(object);
+    obj.reset();
+    let mut force = [0f32; CHUNK];
+    force[0] = 1.0;
+    let (mut mid, mut side) = ([0f32; CHUNK], [0f32; CHUNK]);
+    let (mut l, mut r) = (Vec::new(), Vec::new());
+    let mut peak = 0f32;
+    let mut quiet = 0usize;
+    let floor = 10f32.powf(IMPULSE_FLOOR_DB as f32 / 20.0);
+    let hold = (0.05 * sample_rate_hz) as usize;
+    while l.len() < max_frames {
+        obj.process_chunk_stereo(&force, &mut mid, &mut side);
+        force[0] = 0.0;
+        let norm = obj.gain_norm();
+        let scale = if norm > 0.0 { (1.0 / norm) as f32 } else { 0.0 };
+        let take = CHUNK.min(max_frames - l.len());
+        let mut chunk_peak = 0f32;
+        for i in 0..take {
+            let (a, b) = ((mid[i] + side[i]) * scale, (mid[i] - side[i]) * scale);
+            chunk_peak = chunk_peak.max(a.abs()).max(b.abs());
+            l.push(a);
+            r.push(b);
+        }
+        peak = peak.max(chunk_peak);
+        if !fixed_length {
+            if chunk_peak <= peak * floor || obj.is_silent() {
+                quiet += take;
+                if quiet >= hold {
+                    break;
+                }
+            } else {
+                quiet = 0;
+            }
+        }
+    }
+    (l, r)
+}
+
+#[cfg(feature = "presets")]
+mod file_json {
+    use super::*;
+    use serde_json::{json, Value};
+
+    /// The object file of `fit`, naming the recording `source`.
+    pub fn to_json(fit: &FittedObject, source: &str) -> Value {
+        json!({
+            "trundle_object": OBJECT_VERSION,
+            "source": source,
+            "sample_rate_hz": fit.sample_rate_hz,
+            "onset_s": fit.onset_s,
+            "duration_s": fit.duration_s,
+            "peak": fit.peak,
+            "residual_db": fit.residual_db,
+            "modal_range_hz": [fit.modal_range_hz.0, fit.modal_range_hz.1],
+            "modes": fit.modes.iter().map(|m| json!({
+                "freq_hz": m.freq_hz,
+                "decay_s": m.decay_s,
+                "amplitude": m.amplitude,
+                "phase_rad": m.phase_rad,
+            })).collect::<Vec<_>>(),
+            "envelope": fit.envelope.iter().map(|b| json!({
+                "centre_hz": b.centre_hz,
+                "level_db": b.level_db,
+                "decay_s": b.decay_s,
+            })).collect::<Vec<_>>(),
+        })
+    }
+
+    /// Read an object file and validate it ([`FittedObject::validate`]); the error names
+    /// the field at fault. Returns the object and its `source`.
+    pub fn from_json(v: &Value) -> Result<(FittedObject, String), String> {
+        if !v.is_object() {
+            return Err("not a Trundle object file (not a JSON object)".into());
+        }
+        let version = v
+            .get("trundle_object")
+            .and_then(Value::as_u64)
+            .ok_or("not a Trundle object file (no \"trundle_object\" version)")?;
+        if version > OBJECT_VERSION {
+            return Err(format!(
+                "object file version {version} is newer than this Trundle reads ({OBJECT_VERSION})"
+            ));
+        }
+        if version == 0 {
+            return Err("\"trundle_object\" must be 1".into());
+        }
+        let num = |o: &Value, k: &str, at: &str| -> Result<f64, String> {
+            o.get(k)
+                .and_then(Value::as_f64)
+                .filter(|x| x.is_finite())
+                .ok_or_else(|| format!("{at}\"{k}\" must be a finite number"))
+        };
+        let list = |k: &str| -> Result<&Vec<Value>, String> {
+            v.get(k)
+                .and_then(Value::as_array)
+                .ok_or_else(|| format!("\"{k}\" must be a list"))
+        };
+        let sample_rate_hz = num(v, "sample_rate_hz", "")?;
+        if sample_rate_hz <= 0.0 {
+            return Err("\"sample_rate_hz\" must be positive".into());
+        }
+        let mut modes = Vec::new();
+        for (i, m) in list("modes")?.iter().enumerate() {
+            let at = format!("mode {i}: ");
+            let mode = FitMode {
+                freq_hz: num(m, "freq_hz", &at)?,
+                decay_s: num(m, "decay_s", &at)?,
+                amplitude: num(m, "amplitude", &at)?,
+                phase_rad: num(m, "phase_rad", &at)?,
+            };
+            if mode.freq_hz <= 0.0 || mode.decay_s <= 0.0 || mode.amplitude < 0.0 {
+                return Err(format!(
+                    "mode {i}: frequency and decay must be positive, amplitude not negative"
+                ));
+            }
+            if mode.freq_hz >= 0.5 * sample_rate_hz {
+                return Err(format!(
+                    "mode {i}: \"freq_hz\" {} is not below half the sample rate ({} Hz)",
+                    mode.freq_hz,
+                    0.5 * sample_rate_hz
+                ));
+            }
+            modes.push(mode);
+        }
+        let mut envelope = Vec::new();
+        for (i, b) in list("envelope")?.iter().enumerate() {
+            let at = format!("envelope band {i}: ");
+            let band = EnvelopeBand {
+                centre_hz: num(b, "centre_hz", &at)?,
+                level_db: num(b, "level_db", &at)?,
+                decay_s: num(b, "decay_s", &at)?,
+            };
+            if band.centre_hz <= 0.0 || band.decay_s <= 0.0 {
+                return Err(format!(
+                    "envelope band {i}: \"centre_hz\" and \"decay_s\" must be positive"
+                ));
+            }
+            envelope.push(band);
+        }
+        let range = list("modal_range_hz")?;
+        let r = |i: usize| {
+            range
+                .get(i)
+                .and_then(Value::as_f64)
+                .filter(|x| x.is_finite())
+                .ok_or("\"modal_range_hz\" must be [lo, hi]")
+        };
+        let source = v
+            .get("source")
+            .and_then(Value::as_str)
+            .unwrap_or("")
+            .to_string();
+        let fit = FittedObject {
+            sample_rate_hz,
+            modes,
+            envelope,
+            modal_range_hz: (r(0)?, r(1)?),
+            onset_s: num(v, "onset_s", "")?,
+            duration_s: num(v, "duration_s", "")?,
+            residual_db: num(v, "residual_db", "")?,
+            peak: num(v, "peak", "")?,
+        };
+        fit.validate()?;
+        Ok((fit, source))
+    }
+}
+
+#[cfg(feature = "presets")]
+pub use file_json::{from_json, to_json};
