@@ -62,6 +62,7 @@ pub mod compare;
 pub mod editor;
 pub mod expression;
 pub mod meter;
+pub mod object_slot;
 pub mod params;
 pub mod randomize;
 pub mod spectrum;
@@ -103,6 +104,8 @@ pub struct Trundle {
     bypass_gain: f32,
     silent_samples: usize,
     rolling: bool,
+    /// The [`object_slot::ObjectSlot`] generation the voice plays.
+    object_generation: u64,
 }
 
 impl Default for Trundle {
@@ -120,6 +123,7 @@ impl Default for Trundle {
             bypass_gain: 1.0,
             silent_samples: usize::MAX / 2,
             rolling: false,
+            object_generation: u64::MAX,
         }
     }
 }
@@ -202,6 +206,12 @@ impl Plugin for Trundle {
             Some(v) if v.sample_rate() == trundle_dsp::sanitize_sample_rate(fs) => {}
             _ => self.voice = Some(Voice::new(fs, &self.dsp)),
         }
+        // The fitted object (from the state, a preset or the editor), applied here on the
+        // main thread so the first block already plays it.
+        if let Some(v) = &mut self.voice {
+            self.object_generation = self.params.object.generation();
+            drop(v.set_loaded_object(self.params.object.load()));
+        }
         // A few hundred samples of delay line: cheap to build at every activation. Its
         // look-ahead is the plugin's only latency, the same whether the limiter is on or off
         // (set once here, never from `process`), so a host compensates it once.
@@ -245,6 +255,13 @@ impl Plugin for Trundle {
             }
             return ProcessStatus::Normal;
         };
+        // A fitted object published since the last block (lock-free; the slot keeps the
+        // previous one alive, so dropping it here frees nothing).
+        let generation = self.params.object.generation();
+        if generation != self.object_generation {
+            self.object_generation = generation;
+            drop(voice.set_loaded_object(self.params.object.load()));
+        }
         let transport = context.transport();
         let rolling =
             self.params.run.value() == 1 || transport.playing || !host_has_transport(transport);

@@ -36,12 +36,14 @@
 //! all never reaches us: nice-plug refuses it, the host is told the load failed and the
 //! instance keeps its current values.
 
+use crate::object_slot::{ObjectSlot, OBJECT_FIELD};
 use nice_plug::plugin::ParamValue;
 use nice_plug::prelude::*;
 use nice_plug_egui::EguiEditorState;
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::Arc;
+use trundle_dsp::object::fitted::LoadedObject;
 use trundle_dsp::object::Quality;
 use trundle_dsp::params::{ParamEnum, ParamKind, ParamSpec, PARAMS};
 use trundle_dsp::ParamId;
@@ -203,6 +205,9 @@ pub struct TrundleParams {
     pub editor_state: Arc<EguiEditorState>,
     /// Version of the persisted fields the state was written with.
     pub state_version: AtomicU32,
+    /// The fitted object played instead of the recipe one, saved in the state (field
+    /// [`OBJECT_FIELD`]: the object file's JSON).
+    pub object: Arc<ObjectSlot>,
 }
 
 impl Default for TrundleParams {
@@ -218,6 +223,7 @@ impl Default for TrundleParams {
                 1.0,
             ),
             state_version: AtomicU32::new(STATE_VERSION),
+            object: Arc::new(ObjectSlot::default()),
         }
     }
 }
@@ -255,6 +261,9 @@ unsafe impl Params for TrundleParams {
     fn serialize_fields(&self) -> BTreeMap<String, String> {
         let mut m = BTreeMap::new();
         m.insert(STATE_VERSION_FIELD.into(), STATE_VERSION.to_string());
+        if let Some(text) = self.object.to_state_text() {
+            m.insert(OBJECT_FIELD.into(), text);
+        }
         m
     }
 
@@ -267,6 +276,20 @@ unsafe impl Params for TrundleParams {
             .and_then(|v| parse_version(v).ok())
             .unwrap_or(0);
         self.state_version.store(version, Ordering::Relaxed);
+        // The state's object (checked by `check_state`), or the recipe object: a state
+        // without one restores the recipe.
+        let object = serialized.get(OBJECT_FIELD).map(|t| ObjectSlot::parse(t));
+        let applied = match object {
+            Some(Ok(file)) => self.object.set(Some(file)),
+            Some(Err(e)) => Err(e),
+            None => self.object.set(None),
+        };
+        if let Err(e) = applied {
+            nice_warn!(
+                "Trundle state: its fitted object is unusable ({e}); the recipe object plays"
+            );
+            self.object.clear();
+        }
         if version != STATE_VERSION {
             nice_warn!(
                 "Trundle state: persisted fields of version {version} applied without migration \
@@ -439,14 +462,29 @@ pub fn check_state(state: &mut PluginState) -> Vec<String> {
         Ok(_) => None,
     };
     for key in state.fields.keys() {
-        if key != STATE_VERSION_FIELD {
+        if key != STATE_VERSION_FIELD && key != OBJECT_FIELD {
             report.push(format!("unknown persisted field '{key}' ignored"));
         }
     }
+    // A fitted object is kept only if it reads and prepares (a corrupt one: the recipe).
+    let object = state.fields.remove(OBJECT_FIELD).and_then(|text| {
+        match ObjectSlot::parse(&text).and_then(|f| LoadedObject::new(f).map(|_| ())) {
+            Ok(()) => Some(text),
+            Err(e) => {
+                report.push(format!(
+                    "fitted object unusable ({e}): the recipe object plays"
+                ));
+                None
+            }
+        }
+    });
     state.fields.clear();
     state
         .fields
         .insert(STATE_VERSION_FIELD.into(), STATE_VERSION.to_string());
+    if let (Some(text), None) = (object, &refusal) {
+        state.fields.insert(OBJECT_FIELD.into(), text);
+    }
 
     if let Some(why) = refusal {
         report.push(format!(

@@ -27,6 +27,7 @@ use std::collections::BTreeMap;
 use std::fs;
 use std::io;
 use std::path::{Path, PathBuf};
+use trundle_dsp::object::fitted::ObjectFile;
 use trundle_dsp::preset::Preset;
 use trundle_dsp::Params;
 
@@ -143,6 +144,7 @@ impl PresetStore {
         name: &str,
         description: &str,
         params: &Params,
+        object: Option<ObjectFile>,
         tags: &[String],
     ) -> Result<String, String> {
         let name = name.trim();
@@ -153,6 +155,7 @@ impl PresetStore {
             params: *params,
             automation: Vec::new(),
             balls: Vec::new(),
+            object,
         };
         fs::create_dir_all(&self.dir)
             .map_err(|e| format!("cannot create {}: {e}", self.dir.display()))?;
@@ -360,7 +363,7 @@ mod tests {
         let params = some_params();
         let tags = vec!["Glass".to_string(), "loop".to_string()];
         let file = store
-            .save("My Glass Roll", "a test", &params, &tags)
+            .save("My Glass Roll", "a test", &params, None, &tags)
             .unwrap();
         assert_eq!(file, "my-glass-roll.json");
         let listing = store.list();
@@ -379,7 +382,7 @@ mod tests {
         assert_eq!(loaded.params, params);
         // Saving under the same name replaces it.
         store
-            .save("my glass roll", "", &Params::default(), &[])
+            .save("my glass roll", "", &Params::default(), None, &[])
             .unwrap();
         let listing = store.list();
         assert_eq!(listing.presets.len(), 1);
@@ -392,7 +395,7 @@ mod tests {
         let store = scratch("rename");
         let params = some_params();
         let file = store
-            .save("Old", "", &params, &["dark".to_string()])
+            .save("Old", "", &params, None, &["dark".to_string()])
             .unwrap();
         let new_file = store.rename(&file, "Brand new").unwrap();
         assert_eq!(new_file, "brand-new.json");
@@ -405,7 +408,9 @@ mod tests {
         assert_eq!(entry.preset.as_ref().unwrap().params, params);
         assert!(store.load(&file).is_err());
         // Renaming onto another preset's file is refused and changes nothing.
-        store.save("Other", "", &Params::default(), &[]).unwrap();
+        store
+            .save("Other", "", &Params::default(), None, &[])
+            .unwrap();
         assert!(store.rename(&new_file, "other").is_err());
         assert_eq!(store.list().presets.len(), 2);
         // A new spelling of the same name keeps the file.
@@ -418,9 +423,9 @@ mod tests {
     fn delete_removes_the_file_and_its_tags() {
         let store = scratch("delete");
         let a = store
-            .save("A", "", &Params::default(), &["x".to_string()])
+            .save("A", "", &Params::default(), None, &["x".to_string()])
             .unwrap();
-        store.save("B", "", &Params::default(), &[]).unwrap();
+        store.save("B", "", &Params::default(), None, &[]).unwrap();
         store.delete(&a).unwrap();
         let listing = store.list();
         assert_eq!(listing.presets.len(), 1);
@@ -436,12 +441,12 @@ mod tests {
         let store = scratch("tags");
         let p = Params::default();
         store
-            .save("Wood table", "", &p, &parse_tags("wood, table"))
+            .save("Wood table", "", &p, None, &parse_tags("wood, table"))
             .unwrap();
         store
-            .save("Glass bowl", "", &p, &parse_tags("Glass  bowl"))
+            .save("Glass bowl", "", &p, None, &parse_tags("Glass  bowl"))
             .unwrap();
-        let metal = store.save("Metal tray", "", &p, &[]).unwrap();
+        let metal = store.save("Metal tray", "", &p, None, &[]).unwrap();
         store.set_tags(&metal, &parse_tags("metal,table")).unwrap();
         let listing = store.list();
         let pick = |text: &str, tag: Option<&str>| -> Vec<String> {
@@ -464,7 +469,9 @@ mod tests {
     #[test]
     fn corrupt_files_are_listed_with_the_reason() {
         let store = scratch("corrupt");
-        store.save("Good", "", &Params::default(), &[]).unwrap();
+        store
+            .save("Good", "", &Params::default(), None, &[])
+            .unwrap();
         fs::write(store.dir().join("broken.json"), "{ not json").unwrap();
         fs::write(
             store.dir().join("future.json"),

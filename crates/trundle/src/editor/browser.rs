@@ -47,6 +47,7 @@ impl TrundleEditor {
     /// Open or close the browser (opening re-reads the user preset directory).
     pub(super) fn toggle_browser(&mut self) {
         self.browser.open = !self.browser.open;
+        self.picker.open = false;
         if self.browser.open {
             self.refresh_user_presets();
             if self.browser.save_name.is_empty() {
@@ -103,6 +104,11 @@ impl TrundleEditor {
             }
         };
         self.apply(&preset.params, setter, &format!("preset '{}'", preset.name));
+        // Its fitted object, or the recipe object (a preset without one).
+        if let Err(e) = self.params.object.set(preset.object.clone()) {
+            self.params.object.clear();
+            self.browser.status = Some((format!("its fitted object is unusable: {e}"), true));
+        }
         self.loaded = Some(Loaded {
             source: source.clone(),
             name: preset.name,
@@ -483,20 +489,22 @@ impl TrundleEditor {
             let live = self.live_params();
             let tags = parse_tags(&self.browser.save_tags);
             let name = self.browser.save_name.trim().to_string();
-            self.browser.status = Some(match store.save(&name, "", &live, &tags) {
-                Ok(file) => {
-                    self.loaded = Some(Loaded {
-                        source: PresetRef::User(file.clone()),
-                        name: name.clone(),
-                        params: live,
-                    });
-                    self.browser.selected = Some(PresetRef::User(file.clone()));
-                    self.browser.rename = name.clone();
-                    self.browser.tags = tags.join(", ");
-                    (format!("saved '{name}' as {file}"), false)
-                }
-                Err(e) => (e, true),
-            });
+            self.browser.status = Some(
+                match store.save(&name, "", &live, self.params.object.file(), &tags) {
+                    Ok(file) => {
+                        self.loaded = Some(Loaded {
+                            source: PresetRef::User(file.clone()),
+                            name: name.clone(),
+                            params: live,
+                        });
+                        self.browser.selected = Some(PresetRef::User(file.clone()));
+                        self.browser.rename = name.clone();
+                        self.browser.tags = tags.join(", ");
+                        (format!("saved '{name}' as {file}"), false)
+                    }
+                    Err(e) => (e, true),
+                },
+            );
             self.refresh_user_presets();
         }
     }

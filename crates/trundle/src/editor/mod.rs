@@ -22,6 +22,8 @@
 //! * Every change goes through nice-plug's `ParamSetter` with begin/set/end gestures (see
 //!   `editor/widgets.rs`), so host automation recording works. Double-click types a value
 //!   (`editor/text_entry.rs`), ctrl/cmd- or alt-click resets, on every control.
+//! * "Load…" in the OBJECT panel opens the fitted-object picker (`editor/object_picker.rs`)
+//!   in place of the body: an object file or a WAV strike fitted on the spot.
 //! * The preset name opens the browser (`editor/browser.rs`) in place of the body: built-in
 //!   and user presets (`crate::user_presets`), filtered by name and tag. A/B compare
 //!   (`crate::compare`) and randomize (`crate::randomize`) change the whole sound through
@@ -42,6 +44,7 @@ mod browser;
 mod disks;
 mod header;
 mod layout;
+mod object_picker;
 mod panels;
 mod snapshot;
 mod text_entry;
@@ -93,6 +96,8 @@ pub struct TrundleEditor {
     loaded: Option<snapshot::Loaded>,
     /// The preset browser's state.
     browser: browser::Browser,
+    /// "Load object…": the fitted-object picker's state.
+    picker: object_picker::ObjectPicker,
     /// The A/B compare slots.
     ab: AbCompare,
     /// The groups randomize leaves alone.
@@ -164,6 +169,7 @@ pub fn create(
         user: Listing::default(),
         loaded: None,
         browser: browser::Browser::default(),
+        picker: object_picker::ObjectPicker::default(),
         ab: AbCompare::default(),
         locks: Locks::default(),
         styled_scale: 0.0,
@@ -255,6 +261,12 @@ impl NiceEguiApp for TrundleEditor {
             self.footer(ui, l.footer, &gui, &t);
             return;
         }
+        if self.picker.open {
+            let body = Rect::from_min_max(l.action.min, l.output.max);
+            self.object_picker(ui, body, &t);
+            self.footer(ui, l.footer, &gui, &t);
+            return;
+        }
 
         let body = panel(ui, l.action, "ACTION", None, &t);
         self.action_disk(ui, body, &setter, &t);
@@ -321,6 +333,7 @@ impl NiceEguiApp for TrundleEditor {
         }
 
         let body = panel(ui, l.object, "OBJECT", None, &t);
+        self.object_title(ui, l.object, body, &t);
         let (knobs, side) = split_side(body, 3, 1.4);
         let band = self.knob_row(
             ui,

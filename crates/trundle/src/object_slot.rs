@@ -1,0 +1,363 @@
+//! The fitted object the plugin plays, handed from the editor (or a loaded state or preset)
+//! to the audio thread without a lock or an allocation there.
+//!
+//! A sound designer brings a recorded prop in three ways: an object file written by
+//! `trundle fit-object` (`*.object.json`), a WAV of one strike fitted on the spot (the fit —
+//! `trundle_dsp::fit`, 0.2–1 s — runs on a thread of its own, never the GUI's or the
+//! audio thread's), or a preset whose `object` entry carries one. The object then replaces
+//! the recipe object (shape × material × size); the material, decay, size and width
+//! controls act on it as modifiers (`trundle_dsp::object::fitted`).
+//!
+//! ```text
+//!  editor / state / preset ──set()──► prepare LoadedObject (allocates, this thread)
+//!                                        │ publish: ArcSwap store + generation + 1
+//!  audio thread, every block:  generation changed? ──► load_full() (lock-free, no allocation)
+//!                                        └─► Voice::set_loaded_object (real-time safe)
+//! ```
+//!
+//! The previous object stays referenced here ("retired") until a later `set` sees that the
+//! audio thread has let it go, so the audio thread never frees memory. The object file's
+//! JSON is saved in the plugin's state (field `object`), so a session reopens with the same
+//! object even when the file is gone.
+
+use arc_swap::ArcSwapOption;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
+use trundle_dsp::object::fitted::{self, LoadedObject, ObjectFile};
+
+/// The name of the persisted state field holding the object file (JSON text).
+pub const OBJECT_FIELD: &str = "object";
+
+/// What the editor shows about a fit running in the background.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub enum FitStatus {
+    /// Nothing running, nothing to report.
+    #[default]
+    Idle,
+    /// Fitting this recording.
+    Fitting(String),
+    /// The last load or fit worked: what it was.
+    Done(String),
+    /// The last load or fit failed: why.
+    Failed(String),
+}
+
+#[derive(Default)]
+struct Held {
+    /// The object file (what the state saves), `None` for the recipe object.
+    file: Option<ObjectFile>,
+    /// Prepared objects the audio thread may still hold.
+    retired: Vec<Arc<LoadedObject>>,
+}
+
+/// The fitted object slot shared by the plugin, its editor and its state.
+#[derive(Default)]
+pub struct ObjectSlot {
+    /// Main/GUI/fit threads only (never locked by the audio thread).
+    held: Mutex<Held>,
+    /// What the audio thread plays.
+    published: ArcSwapOption<LoadedObject>,
+    /// Bumped after every publish; the audio thread compares it with the one it applied.
+    generation: AtomicU64,
+    status: Mutex<FitStatus>,
+}
+
+impl ObjectSlot {
+    /// Play `file` (or the recipe object for `None`). Prepares the object on the calling
+    /// thread (allocates: never call from `process`); an invalid object is refused with the
+    /// reason and the slot is left as it was.
+    pub fn set(&self, file: Option<ObjectFile>) -> Result<(), String> {
+        let prepared = match &file {
+            Some(f) => Some(LoadedObject::shared(f.clone())?),
+            None => None,
+        };
+        let mut held = self.held.lock().unwrap_or_else(|e| e.into_inner());
+        // Objects only this slot still references can go (the audio thread has moved on).
+        held.retired.retain(|o| Arc::strong_count(o) > 1);
+        if let Some(old) = self.published.swap(prepared) {
+            held.retired.push(old);
+        }
+        held.file = file;
+        self.generation.fetch_add(1, Ordering::Release);
+        Ok(())
+    }
+
+    /// The object file played, if any (a clone: main/GUI thread).
+    pub fn file(&self) -> Option<ObjectFile> {
+        self.held
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .file
+            .clone()
+    }
+
+    /// What the editor shows: the recording a fitted object came from, if one plays.
+    pub fn source_name(&self) -> Option<String> {
+        self.held
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .file
+            .as_ref()
+            .map(|f| {
+                if f.source.is_empty() {
+                    "fitted object".to_string()
+                } else {
+                    f.source.clone()
+                }
+            })
+    }
+
+    /// The object file as the state saves it (compact JSON), `None` for the recipe object.
+    pub fn to_state_text(&self) -> Option<String> {
+        self.file()
+            .map(|f| fitted::to_json(&f.object, &f.source).to_string())
+    }
+
+    /// Read a state's object text: the object file, or why it is unusable.
+    pub fn parse(text: &str) -> Result<ObjectFile, String> {
+        let v: serde_json::Value =
+            serde_json::from_str(text).map_err(|e| format!("not JSON: {e}"))?;
+        let (object, source) = fitted::from_json(&v)?;
+        Ok(ObjectFile { object, source })
+    }
+
+    /// Read an object file from disk (`*.object.json`).
+    pub fn read_object_file(path: &Path) -> Result<ObjectFile, String> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+        Self::parse(&text).map_err(|e| format!("{}: {e}", path.display()))
+    }
+
+    /// The generation of the last publish (audio thread: cheap, lock-free).
+    pub fn generation(&self) -> u64 {
+        self.generation.load(Ordering::Acquire)
+    }
+
+    /// The object to play now (audio thread: lock-free, no allocation).
+    pub fn load(&self) -> Option<Arc<LoadedObject>> {
+        self.published.load_full()
+    }
+
+    /// The editor's status line.
+    pub fn status(&self) -> FitStatus {
+        self.status
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .clone()
+    }
+
+    fn set_status(&self, s: FitStatus) {
+        *self.status.lock().unwrap_or_else(|e| e.into_inner()) = s;
+    }
+
+    /// Load `path` (GUI thread): an object file is read at once; a WAV recording of one
+    /// strike is fitted on a thread of its own and played when the fit is done. The status
+    /// says how it went.
+    pub fn load_path(self: &Arc<Self>, path: PathBuf) {
+        let name = path
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let lower = name.to_ascii_lowercase();
+        if lower.ends_with(".wav") {
+            self.set_status(FitStatus::Fitting(name.clone()));
+            let slot = self.clone();
+            let spawned = std::thread::Builder::new()
+                .name("trundle-fit".into())
+                .spawn(move || {
+                    let result = fit_recording(&path).and_then(|file| {
+                        let modes = file.object.modes.len();
+                        let residual = file.object.residual_db;
+                        slot.set(Some(file))?;
+                        Ok(format!("{name}: {modes} modes, residual {residual:.1} dB"))
+                    });
+                    slot.set_status(match result {
+                        Ok(s) => FitStatus::Done(s),
+                        Err(e) => FitStatus::Failed(e),
+                    });
+                });
+            if let Err(e) = spawned {
+                self.set_status(FitStatus::Failed(format!("cannot start the fit: {e}")));
+            }
+        } else {
+            let result = Self::read_object_file(&path).and_then(|f| {
+                let modes = f.object.modes.len();
+                self.set(Some(f))?;
+                Ok(format!("{name}: {modes} modes"))
+            });
+            self.set_status(match result {
+                Ok(s) => FitStatus::Done(s),
+                Err(e) => FitStatus::Failed(e),
+            });
+        }
+    }
+
+    /// Back to the recipe object (GUI thread).
+    pub fn clear(&self) {
+        // `set(None)` prepares nothing and cannot fail.
+        let _ = self.set(None);
+        self.set_status(FitStatus::Idle);
+    }
+}
+
+/// Read a WAV recording (any rate, mono or mixed down) and fit its modes
+/// ([`trundle_dsp::fit::fit_strike`]): the object file of `path`.
+pub fn fit_recording(path: &Path) -> Result<ObjectFile, String> {
+    let shown = path.display();
+    let mut reader =
+        hound::WavReader::open(path).map_err(|e| format!("cannot read {shown}: {e}"))?;
+    let spec = reader.spec();
+    let channels = usize::from(spec.channels.max(1));
+    let interleaved: Vec<f64> = match spec.sample_format {
+        hound::SampleFormat::Float => reader
+            .samples::<f32>()
+            .map(|s| s.map(f64::from))
+            .collect::<Result<_, _>>(),
+        hound::SampleFormat::Int => {
+            let full = f64::from(1u32 << (spec.bits_per_sample.clamp(1, 32) - 1));
+            reader
+                .samples::<i32>()
+                .map(|s| s.map(|x| f64::from(x) / full))
+                .collect::<Result<_, _>>()
+        }
+    }
+    .map_err(|e| format!("{shown}: {e}"))?;
+    let mono: Vec<f64> = interleaved
+        .chunks(channels)
+        .map(|frame| frame.iter().sum::<f64>() / frame.len() as f64)
+        .collect();
+    let object = trundle_dsp::fit::fit_strike(&mono, f64::from(spec.sample_rate))
+        .map_err(|e| format!("{shown}: {e}"))?;
+    let source = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    Ok(ObjectFile { object, source })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use trundle_dsp::object::fitted::FittedObject;
+    use trundle_dsp::preset::Preset;
+
+    /// The fitted object of a built-in preset (they carry them inline).
+    fn some_object() -> ObjectFile {
+        trundle_dsp::preset::BUILTIN_PRESETS
+            .iter()
+            .filter_map(|(_, json)| Preset::from_json(json).ok())
+            .find_map(|p| p.object)
+            .expect("a built-in preset with a fitted object")
+    }
+
+    #[test]
+    fn set_publishes_and_the_state_text_reads_back() {
+        let slot = ObjectSlot::default();
+        assert!(slot.load().is_none());
+        let g0 = slot.generation();
+        let file = some_object();
+        slot.set(Some(file.clone())).unwrap();
+        assert!(slot.generation() > g0);
+        assert!(slot.load().is_some());
+        let text = slot.to_state_text().unwrap();
+        let back = ObjectSlot::parse(&text).unwrap();
+        assert_eq!(back.object.modes.len(), file.object.modes.len());
+        assert_eq!(back.source, file.source);
+        // The state's text is the object file itself: the same object after a reload.
+        let again = ObjectSlot::default();
+        again.set(Some(back)).unwrap();
+        assert_eq!(again.to_state_text().unwrap(), text);
+        slot.clear();
+        assert!(slot.load().is_none());
+        assert!(slot.to_state_text().is_none());
+    }
+
+    #[test]
+    fn a_bad_object_is_refused_and_the_slot_keeps_what_it_had() {
+        let slot = ObjectSlot::default();
+        slot.set(Some(some_object())).unwrap();
+        let g = slot.generation();
+        let mut bad = some_object();
+        bad.object = FittedObject {
+            sample_rate_hz: f64::NAN,
+            ..bad.object
+        };
+        assert!(slot.set(Some(bad)).is_err());
+        assert_eq!(slot.generation(), g);
+        assert!(slot.load().is_some());
+        for text in [
+            "",
+            "{",
+            "[]",
+            "{\"trundle_object\": 99}",
+            "{\"trundle_object\": 1}",
+        ] {
+            assert!(ObjectSlot::parse(text).is_err(), "{text:?}");
+        }
+    }
+
+    #[test]
+    fn the_audio_thread_never_drops_the_last_reference() {
+        let slot = ObjectSlot::default();
+        slot.set(Some(some_object())).unwrap();
+        // What the audio thread holds after applying the publish.
+        let held_by_voice = slot.load().unwrap();
+        slot.set(None).unwrap();
+        // The voice lets go of it (set_loaded_object returns it and it is dropped there):
+        // the slot still holds a reference, so no memory is freed on the audio thread.
+        assert!(Arc::strong_count(&held_by_voice) >= 2);
+        drop(held_by_voice);
+        // The next publish lets the retired object go.
+        slot.set(None).unwrap();
+        assert!(slot.held.lock().unwrap().retired.is_empty());
+    }
+
+    #[test]
+    fn a_wav_strike_is_fitted_and_a_non_strike_refused() {
+        let dir = std::env::temp_dir().join(format!("trundle-slot-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let fs = 48_000u32;
+        let write = |name: &str, f: &dyn Fn(f64) -> f64| {
+            let path = dir.join(name);
+            let spec = hound::WavSpec {
+                channels: 1,
+                sample_rate: fs,
+                bits_per_sample: 24,
+                sample_format: hound::SampleFormat::Int,
+            };
+            let mut w = hound::WavWriter::create(&path, spec).unwrap();
+            for i in 0..fs / 2 {
+                let t = f64::from(i) / f64::from(fs);
+                w.write_sample((f(t) * 8_388_607.0) as i32).unwrap();
+            }
+            w.finalize().unwrap();
+            path
+        };
+        // Two damped modes, struck at 10 ms.
+        let strike = write("strike.wav", &|t: f64| {
+            let u = t - 0.01;
+            if u < 0.0 {
+                0.0
+            } else {
+                0.5 * (-u / 0.08).exp() * (2.0 * std::f64::consts::PI * 440.0 * u).sin()
+                    + 0.3 * (-u / 0.05).exp() * (2.0 * std::f64::consts::PI * 1_250.0 * u).sin()
+            }
+        });
+        let file = fit_recording(&strike).unwrap();
+        let mut freqs: Vec<f64> = file
+            .object
+            .modes
+            .iter()
+            .filter(|m| m.amplitude > 0.05)
+            .map(|m| m.freq_hz)
+            .collect();
+        freqs.sort_by(f64::total_cmp);
+        assert_eq!(freqs.len(), 2, "{freqs:?}");
+        assert!((freqs[0] - 440.0).abs() < 0.5 && (freqs[1] - 1_250.0).abs() < 0.5);
+        let silence = write("silence.wav", &|_| 0.0);
+        assert!(fit_recording(&silence).is_err());
+        assert!(fit_recording(&dir.join("missing.wav")).is_err());
+        std::fs::remove_dir_all(&dir).ok();
+    }
+}
