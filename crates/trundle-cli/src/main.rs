@@ -43,6 +43,7 @@ mod spectrum;
 mod spectrum_plot;
 mod stats;
 mod tradeoff;
+mod variations;
 
 use clap::{Parser, Subcommand};
 use error::{failure, CliError};

@@ -168,6 +168,22 @@ pub struct RenderArgs {
     /// -1 dBFS. The summary says how many frames either touched.
     #[arg(long)]
     pub no_normalize: bool,
+    /// Render N takes (game audio): seed + k and the --jitter parameters varied per take,
+    /// loudness-matched, rendered in parallel; -o is a name template ({n}, {seed}, {preset})
+    /// and a JSON manifest lists the takes.
+    #[arg(long, value_name = "N", conflicts_with_all = ["no_normalize", "impulse", "impacts"])]
+    pub variations: Option<String>,
+    /// With --variations: vary parameter ID by ±AMOUNT (its units) or ±AMOUNT% of its value
+    /// per take (repeatable), e.g. --jitter velocity=0.1 --jitter roughness=20%.
+    #[arg(long, value_name = "ID=AMOUNT", requires = "variations")]
+    pub jitter: Vec<String>,
+    /// With --variations: where the manifest goes (default: beside the first take,
+    /// <its name>.manifest.json).
+    #[arg(long, value_name = "FILE.json", requires = "variations")]
+    pub manifest: Option<PathBuf>,
+    /// With --variations: render threads (default: one per core).
+    #[arg(long, value_name = "N", requires = "variations")]
+    pub jobs: Option<usize>,
 }
 
 /// How the output level is set.
@@ -182,22 +198,22 @@ enum LevelMode {
 
 /// A validated render: nothing in here can be wrong any more.
 #[derive(Debug)]
-struct Plan {
-    params: Params,
+pub(crate) struct Plan {
+    pub(crate) params: Params,
     /// The preset's keyframe lanes (lanes of parameters given with --set are dropped).
     automation: Vec<Lane>,
     /// The preset's extra balls as note events at their samples, sorted by sample.
     events: Vec<(u64, VoiceEvent)>,
-    preset_name: String,
-    sample_rate: u32,
-    frames: u64,
+    pub(crate) preset_name: String,
+    pub(crate) sample_rate: u32,
+    pub(crate) frames: u64,
     /// 1 (mono mix or force) or 2 (stereo).
-    channels: u16,
-    format: Format,
+    pub(crate) channels: u16,
+    pub(crate) format: Format,
     level: LevelMode,
     output: PathBuf,
     impacts: Option<PathBuf>,
-    overwrite: bool,
+    pub(crate) overwrite: bool,
     /// The fitted object played instead of the recipe (from --object or the preset).
     object: Option<Arc<LoadedObject>>,
     /// Render the impulse response (`--impulse`); `frames` is then the longest length
@@ -208,7 +224,10 @@ struct Plan {
 
 /// Run `trundle render`; returns the summary line.
 pub fn run(args: &RenderArgs) -> Result<String, CliError> {
-    let plan = plan(args)?;
+    if let Some(n) = &args.variations {
+        return crate::variations::run(args, n);
+    }
+    let plan = plan(args, None)?;
     if plan.impulse {
         return execute_impulse(&plan);
     }
@@ -260,7 +279,29 @@ pub fn load_object(path: &Path) -> Result<Arc<LoadedObject>, CliError> {
 // Validation
 // ---------------------------------------------------------------------------------------
 
-fn plan(args: &RenderArgs) -> Result<Plan, CliError> {
+/// A take of `--variations`: its seed, `--set` items added after the command's own, and its
+/// file.
+pub(crate) type TakeOverride = (u64, Vec<String>, PathBuf);
+
+/// The plan of `args` (a take of `--variations` when `take` is given).
+pub(crate) fn plan_for(args: &RenderArgs, take: Option<TakeOverride>) -> Result<Plan, CliError> {
+    plan(args, take)
+}
+
+/// The peak ceiling of `--normalize-db` (dBFS).
+pub(crate) fn normalize_ceiling_db(args: &RenderArgs) -> Result<f64, CliError> {
+    match &args.normalize_db {
+        Some(t) => parse_normalize_db(t),
+        None => Ok(DEFAULT_NORMALIZE_DB),
+    }
+}
+
+fn plan(args: &RenderArgs, take: Option<TakeOverride>) -> Result<Plan, CliError> {
+    let (take_seed, take_sets, take_output) = match take {
+        Some((seed, sets, path)) => (Some(seed), sets, Some(path)),
+        None => (None, Vec::new(), None),
+    };
+    let output = take_output.as_ref().unwrap_or(&args.output);
     let seconds = match &args.seconds {
         Some(t) => parse_seconds(t)?,
         None => DEFAULT_SECONDS,
@@ -309,7 +350,7 @@ fn plan(args: &RenderArgs) -> Result<Plan, CliError> {
 
     let mut set_seed: Option<f64> = None;
     let mut set_output: Option<f64> = None;
-    for item in &args.set {
+    for item in args.set.iter().chain(&take_sets) {
         let (key, value) = item
             .split_once('=')
             .filter(|(k, _)| !k.trim().is_empty())
@@ -334,7 +375,11 @@ fn plan(args: &RenderArgs) -> Result<Plan, CliError> {
         }
     }
 
-    if let Some(text) = &args.seed {
+    if let Some(seed) = take_seed {
+        params
+            .set(ParamId::Seed, seed as f64)
+            .map_err(|e| input(format!("--variations seed: {e}")))?;
+    } else if let Some(text) = &args.seed {
         let v = ParamId::Seed
             .spec()
             .parse(text)
@@ -390,10 +435,12 @@ fn plan(args: &RenderArgs) -> Result<Plan, CliError> {
         LevelMode::Normalize { peak_db }
     };
 
-    check_destination(&args.output, "--output", args.force)?;
+    if args.variations.is_none() || take_output.is_some() {
+        check_destination(output, "--output", args.force)?;
+    }
     if let Some(csv) = &args.impacts {
         check_destination(csv, "--impacts", args.force)?;
-        if same_path(csv, &args.output) {
+        if same_path(csv, output) {
             return Err(input(format!(
                 "--impacts and --output are the same file {}",
                 quote(&csv.display().to_string())
@@ -414,7 +461,7 @@ fn plan(args: &RenderArgs) -> Result<Plan, CliError> {
         channels,
         format: args.format,
         level,
-        output: args.output.clone(),
+        output: output.clone(),
         impacts: args.impacts.clone(),
         overwrite: args.force,
         object,
@@ -555,6 +602,14 @@ const PROGRESS_AUDIO_S: f64 = 20.0;
 const PROGRESS_WALL_S: f64 = 0.5;
 
 impl Progress {
+    /// No progress shown (a take rendered beside others).
+    fn silent(total: u64) -> Self {
+        Self {
+            enabled: false,
+            ..Self::new(total, 0.0)
+        }
+    }
+
     fn new(total: u64, audio_s: f64) -> Self {
         Self {
             total,
@@ -672,6 +727,36 @@ fn render_pass(
         progress.update(done);
     }
     Ok(())
+}
+
+/// Render `plan` into memory, interleaved (a take of `--variations`): the voice's own output,
+/// no limiter, no level change, non-finite samples zeroed. Allocates the whole take.
+pub(crate) fn render_in_memory(plan: &Plan) -> Vec<f32> {
+    let mut voice = Voice::new(f64::from(plan.sample_rate), &plan.params);
+    if plan.object.is_some() {
+        voice.set_loaded_object(plan.object.clone());
+        voice.reset();
+    }
+    let mut out = Vec::with_capacity(plan.frames as usize * usize::from(plan.channels));
+    let mut frame = Vec::with_capacity(2 * BLOCK);
+    let (mut impacts, mut nonfinite) = (Impacts::default(), 0u64);
+    let mut progress = Progress::silent(plan.frames);
+    // The sink never fails: the samples go to memory.
+    let _ = render_pass(
+        &mut voice,
+        plan,
+        plan.frames,
+        &mut None,
+        &mut impacts,
+        &mut nonfinite,
+        &mut progress,
+        |l, r| {
+            interleave(&mut frame, l, r.as_deref());
+            out.extend_from_slice(&frame);
+            Ok(())
+        },
+    );
+    out
 }
 
 /// Interleave `(left, right)` (or take `mono` as is) into `buf`.
