@@ -74,6 +74,10 @@ pub struct Limiter {
     /// Smallest gain applied since the meter was last read.
     meter_min: f32,
     touched: u64,
+    /// Consecutive samples, up to now, whose required gain was 1 and after which the released
+    /// gain was exactly 1. At `len + 1` or more the limiter is at rest (see
+    /// [`Limiter::process_stereo`]).
+    calm: u64,
 }
 
 impl Limiter {
@@ -99,6 +103,7 @@ impl Limiter {
             t: 0,
             meter_min: 1.0,
             touched: 0,
+            calm: 0,
         };
         l.set_sample_rate(sample_rate_hz);
         l
@@ -137,6 +142,8 @@ impl Limiter {
         self.t = 0;
         self.meter_min = 1.0;
         self.touched = 0;
+        // Every required and released gain is 1: at rest.
+        self.calm = (self.len + 1) as u64;
     }
 
     /// Turn the gain stage on or off; the delay (latency) stays either way.
@@ -232,6 +239,11 @@ impl Limiter {
             self.box_sum = self.box_vals.iter().sum();
         }
         let gain = ((self.box_sum / self.len as f64) as f32).min(1.0);
+        self.calm = if g_req == 1.0 && self.released == 1.0 {
+            self.calm.saturating_add(1)
+        } else {
+            0
+        };
         // Delay line.
         let dl = std::mem::replace(&mut self.delay_l[slot], l);
         let dr = std::mem::replace(&mut self.delay_r[slot], r);
@@ -250,11 +262,74 @@ impl Limiter {
         )
     }
 
-    /// Process a stereo block in place (any length; real-time safe).
+    /// Process a stereo block in place (any length; real-time safe). Bit for bit the same as
+    /// [`Limiter::process_frame`] on every frame, but much cheaper at rest: while every
+    /// required gain in the look-ahead window and every released gain in the averaging window
+    /// is exactly 1 (the limiter has not acted for `len + 1` samples, `calm`) and the running
+    /// sum is exact, a frame with both samples within the ceiling (which also means finite)
+    /// needs g_req = 1, leaves the gain state as it is and is only delayed (times a gain of
+    /// exactly 1, clamped, flushed: the same operations as the frame path). That stretch
+    /// takes the fast path; the first frame above the ceiling and everything after it in the
+    /// block take the per-frame path.
     pub fn process_stereo(&mut self, left: &mut [f32], right: &mut [f32]) {
-        for (l, r) in left.iter_mut().zip(right.iter_mut()) {
+        let n = left.len().min(right.len());
+        let (left, right) = (&mut left[..n], &mut right[..n]);
+        let mut start = 0;
+        if self.calm > self.len as u64 && self.box_sum == self.len as f64 {
+            let c = self.ceiling;
+            let within = |x: &f32| x.abs() <= c; // false for NaN and ±inf
+                                                 // Usually the whole block: one branch-free pass (vectorised), no search.
+            let all = left.iter().fold(true, |ok, x| ok & within(x))
+                & right.iter().fold(true, |ok, x| ok & within(x));
+            start = if all {
+                n
+            } else {
+                left.iter()
+                    .zip(right.iter())
+                    .position(|(l, r)| !(within(l) && within(r)))
+                    .unwrap_or(n)
+            };
+            self.pass_at_rest(&mut left[..start], &mut right[..start]);
+        }
+        for (l, r) in left[start..].iter_mut().zip(right[start..].iter_mut()) {
             (*l, *r) = self.process_frame(*l, *r);
         }
+    }
+
+    /// The fast path of [`Limiter::process_stereo`]: frames within the ceiling through a
+    /// limiter at rest. Leaves exactly the state the frame path would.
+    fn pass_at_rest(&mut self, left: &mut [f32], right: &mut [f32]) {
+        let m = left.len();
+        if m == 0 {
+            return;
+        }
+        let len = self.len;
+        let mut slot = (self.t % len as u64) as usize;
+        let mut done = 0;
+        while done < m {
+            let k = (len - slot).min(m - done);
+            let (l, r) = (&mut left[done..done + k], &mut right[done..done + k]);
+            l.swap_with_slice(&mut self.delay_l[slot..slot + k]);
+            r.swap_with_slice(&mut self.delay_r[slot..slot + k]);
+            done += k;
+            slot = if slot + k == len { 0 } else { slot + k };
+        }
+        if self.enabled {
+            // The gain is exactly 1 (box_sum = len), and every sample now in the delay line
+            // entered with g_req = 1, i.e. within the ceiling (or non-finite, stored as 0):
+            // the frame path's flush((x · 1).clamp(−c, c)) is flush(x), bit for bit.
+            let zap = |x: &mut f32| *x = flush(*x);
+            left.iter_mut().for_each(zap);
+            right.iter_mut().for_each(zap);
+            self.meter_min = self.meter_min.min(1.0);
+        }
+        // The gain state after m frames with g_req = 1: the required gains in the ring are 1
+        // already, the deque holds only the newest frame, released and the box stay 1.
+        let last = self.t + m as u64 - 1;
+        self.deque[self.dq_head] = last;
+        self.dq_len = 1;
+        self.t += m as u64;
+        self.calm = self.calm.saturating_add(m as u64);
     }
 
     /// Process a mono block in place (both channels of the detector are the signal).
@@ -314,6 +389,66 @@ mod tests {
                 (s >> 8) as f32 / (1u32 << 24) as f32 - 0.5
             })
             .collect()
+    }
+
+    /// `process_stereo` (with its fast path at rest) gives exactly what `process_frame` gives
+    /// frame by frame, and leaves the same state: quiet stretches, peaks above the ceiling,
+    /// non-finite samples, exact-ceiling samples, blocks of every size, enabled and not.
+    #[test]
+    fn block_path_is_bit_identical_to_the_frame_path() {
+        for enabled in [true, false] {
+            let mut fast = Limiter::new(48_000.0);
+            fast.set_enabled(enabled);
+            let mut slow = fast.clone();
+            let c = fast.ceiling();
+            let mut seed = 7u32;
+            let mut rnd = move || {
+                seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+                (seed >> 8) as f32 / (1u32 << 24) as f32
+            };
+            let mut at = 0usize;
+            for block in 0..3_000 {
+                let n = [1, 7, 64, 71, 72, 73, 200, 512][block % 8];
+                let loud = block % 37 == 5 || block % 53 == 11;
+                let mut l: Vec<f32> = (0..n)
+                    .map(|i| {
+                        let x = (rnd() - 0.5) * if loud && i == n / 2 { 4.0 } else { 0.5 };
+                        match (block + i) % 997 {
+                            3 => f32::NAN,
+                            4 => c,
+                            5 => -0.0,
+                            6 => 1e-35,
+                            _ => x,
+                        }
+                    })
+                    .collect();
+                let mut r: Vec<f32> = l.iter().map(|x| x * 0.7 + (rnd() - 0.5) * 0.1).collect();
+                let want: Vec<(f32, f32)> = l
+                    .iter()
+                    .zip(&r)
+                    .map(|(a, b)| slow.process_frame(*a, *b))
+                    .collect();
+                fast.process_stereo(&mut l, &mut r);
+                for (i, (w, (a, b))) in want.iter().zip(l.iter().zip(&r)).enumerate() {
+                    assert_eq!(
+                        (w.0.to_bits(), w.1.to_bits()),
+                        (a.to_bits(), b.to_bits()),
+                        "enabled {enabled}, sample {}",
+                        at + i
+                    );
+                }
+                at += n;
+                assert_eq!(fast.touched(), slow.touched());
+                assert_eq!(fast.t, slow.t);
+                assert_eq!(fast.box_sum.to_bits(), slow.box_sum.to_bits());
+                assert_eq!(fast.released.to_bits(), slow.released.to_bits());
+                assert_eq!((fast.dq_head, fast.dq_len), (slow.dq_head, slow.dq_len));
+                assert_eq!(fast.calm, slow.calm);
+                if block % 100 == 0 {
+                    assert_eq!(fast.gain_reduction_db(), slow.gain_reduction_db());
+                }
+            }
+        }
     }
 
     #[test]
