@@ -3,7 +3,7 @@
 //!
 //! ```text
 //! cargo xtask bundle trundle --release
-//! cargo run --release -p trundle-tests --example plugin_cost [-- --seconds 10 --reps 5 --json --max-ratio 1.15]
+//! cargo run --release -p trundle-tests --example plugin_cost [-- --seconds 10 --reps 20 --json --max-ratio 1.15]
 //! ```
 //!
 //! * **plugin**: `Trundle.clap` (`TRUNDLE_CLAP_BUNDLE`, else `target/bundled/Trundle.clap`,
@@ -43,7 +43,7 @@ struct Args {
 fn args() -> Result<Args, String> {
     let mut a = Args {
         seconds: 10.0,
-        reps: 5,
+        reps: 20,
         json: false,
         max_ratio: None,
         only: None,
