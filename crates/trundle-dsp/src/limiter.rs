@@ -208,12 +208,16 @@ impl Limiter {
                 break;
             }
         }
-        self.deque[(self.dq_head + self.dq_len) % cap] = t;
-        self.dq_len += 1;
-        while t - self.deque[self.dq_head] >= cap as u64 {
+        // Drop the entry leaving the window before pushing: the window holds len + 1 gains,
+        // so the ring of len + 1 never overflows. (Pushing first overflowed it whenever the
+        // required gain rose for more than len + 1 samples in a row — a loud peak decaying
+        // slowly — and the ring's oldest entries were overwritten.)
+        while self.dq_len > 0 && t - self.deque[self.dq_head] >= cap as u64 {
             self.dq_head = (self.dq_head + 1) % cap;
             self.dq_len -= 1;
         }
+        self.deque[(self.dq_head + self.dq_len) % cap] = t;
+        self.dq_len += 1;
         let held = self.req[(self.deque[self.dq_head] % cap as u64) as usize];
         // Release: fall at once, rise by a one-pole.
         // Release in f64 (in f32 the one-pole's step rounds to nothing 10⁻⁴ below unity
@@ -389,6 +393,36 @@ mod tests {
                 (s >> 8) as f32 / (1u32 << 24) as f32 - 0.5
             })
             .collect()
+    }
+
+    /// The running minimum is exact when the required gain rises for longer than the window
+    /// (a slow fall from a loud peak: a 30 Hz sine at 4× the ceiling): the deque never holds
+    /// more than the window, and the held gain is the true minimum of the last len + 1.
+    #[test]
+    fn running_minimum_survives_long_rising_gain_runs() {
+        let mut lim = Limiter::new(48_000.0);
+        let cap = lim.len + 1;
+        let mut reqs: Vec<f32> = Vec::new();
+        for i in 0..48_000 {
+            let x = 4.0 * (i as f32 * 2.0 * std::f32::consts::PI * 30.0 / 48_000.0).sin();
+            let peak = x.abs();
+            reqs.push(if peak > lim.ceiling() {
+                lim.ceiling() / peak
+            } else {
+                1.0
+            });
+            lim.process_frame(x, -x);
+            assert!(
+                lim.dq_len <= cap,
+                "sample {i}: deque {} > ring {cap}",
+                lim.dq_len
+            );
+            let want = reqs[reqs.len().saturating_sub(cap)..]
+                .iter()
+                .fold(1.0f32, |m, g| m.min(*g));
+            let held = lim.req[(lim.deque[lim.dq_head] % cap as u64) as usize];
+            assert_eq!(held, want, "sample {i}");
+        }
     }
 
     /// `process_stereo` (with its fast path at rest) gives exactly what `process_frame` gives
