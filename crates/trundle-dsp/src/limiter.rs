@@ -71,6 +71,10 @@ pub struct Limiter {
     release_coef: f64,
     /// Samples processed since `reset`.
     t: u64,
+    /// `t % (len + 1)` (the newest required gain's place in `req`) and `t % len` (the delay
+    /// lines' and box's slot), kept by increments: no division per frame.
+    req_pos: usize,
+    slot: usize,
     /// Smallest gain applied since the meter was last read.
     meter_min: f32,
     touched: u64,
@@ -101,6 +105,8 @@ impl Limiter {
             released: 1.0,
             release_coef: 0.0,
             t: 0,
+            req_pos: 0,
+            slot: 0,
             meter_min: 1.0,
             touched: 0,
             calm: 0,
@@ -140,6 +146,8 @@ impl Limiter {
         self.dq_len = 0;
         self.released = 1.0;
         self.t = 0;
+        self.req_pos = 0;
+        self.slot = 0;
         self.meter_min = 1.0;
         self.touched = 0;
         // Every required and released gain is 1: at rest.
@@ -188,6 +196,103 @@ impl Limiter {
     /// applied is the mean of those `len` values of r: ≤ g₀.
     #[inline]
     pub fn process_frame(&mut self, l: f32, r: f32) -> (f32, f32) {
+        let l = if l.is_finite() { l } else { 0.0 };
+        let r = if r.is_finite() { r } else { 0.0 };
+        let peak = l.abs().max(r.abs());
+        let g_req = if peak > self.ceiling {
+            self.ceiling / peak
+        } else {
+            1.0
+        };
+        // Running minimum over the last len + 1 required gains (monotonic deque).
+        let cap = self.len + 1;
+        let t = self.t;
+        let pos = self.req_pos;
+        // Ring arithmetic without division: indices below 2·cap wrap by one subtraction, and
+        // the gain that entered `age` ≤ cap frames ago sits `age` places before `pos`
+        // (`(t − age) % cap`, as the deque stores times).
+        let wrap = |i: usize| if i >= cap { i - cap } else { i };
+        let at_age = |age: u64| {
+            let age = age as usize;
+            if pos >= age {
+                pos - age
+            } else {
+                pos + cap - age
+            }
+        };
+        self.req[pos] = g_req;
+        while self.dq_len > 0 {
+            let back = self.deque[wrap(self.dq_head + self.dq_len - 1)];
+            if self.req[at_age(t - back)] >= g_req {
+                self.dq_len -= 1;
+            } else {
+                break;
+            }
+        }
+        // Drop the entry leaving the window before pushing: the window holds len + 1 gains,
+        // so the ring of len + 1 never overflows. (Pushing first overflowed it whenever the
+        // required gain rose for more than len + 1 samples in a row — a loud peak decaying
+        // slowly — and the ring's oldest entries were overwritten.)
+        while self.dq_len > 0 && t - self.deque[self.dq_head] >= cap as u64 {
+            self.dq_head = wrap(self.dq_head + 1);
+            self.dq_len -= 1;
+        }
+        self.deque[wrap(self.dq_head + self.dq_len)] = t;
+        self.dq_len += 1;
+        let held = self.req[at_age(t - self.deque[self.dq_head])];
+        // Release: fall at once, rise by a one-pole.
+        // Release in f64 (in f32 the one-pole's step rounds to nothing 10⁻⁴ below unity
+        // and the gain would stall there); within 10⁻⁹ of the held gain it snaps to it, so
+        // an idle limiter is exactly transparent. Still ≤ the held gain: the ceiling holds.
+        let held = f64::from(held);
+        self.released = if held < self.released {
+            held
+        } else {
+            let next = self.released + (held - self.released) * self.release_coef;
+            if held - next < 1e-9 {
+                held
+            } else {
+                next
+            }
+        };
+        // Box average over the last len released gains.
+        let slot = self.slot;
+        self.slot = if slot + 1 == self.len { 0 } else { slot + 1 };
+        self.req_pos = wrap(pos + 1);
+        self.box_sum += self.released - self.box_vals[slot];
+        self.box_vals[slot] = self.released;
+        if slot == 0 {
+            // Re-sum once per window: no drift of the running sum, however long the render.
+            self.box_sum = self.box_vals.iter().sum();
+        }
+        let gain = ((self.box_sum / self.len as f64) as f32).min(1.0);
+        self.calm = if g_req == 1.0 && self.released == 1.0 {
+            self.calm.saturating_add(1)
+        } else {
+            0
+        };
+        // Delay line.
+        let dl = std::mem::replace(&mut self.delay_l[slot], l);
+        let dr = std::mem::replace(&mut self.delay_r[slot], r);
+        self.t += 1;
+        if !self.enabled {
+            return (dl, dr);
+        }
+        if gain < 1.0 - 1e-6 {
+            self.touched += 1;
+        }
+        self.meter_min = self.meter_min.min(gain);
+        let c = self.ceiling;
+        (
+            flush((dl * gain).clamp(-c, c)),
+            flush((dr * gain).clamp(-c, c)),
+        )
+    }
+
+    /// The frame path as it was written first (divisions for every ring index): the
+    /// reference the division-free [`Limiter::process_frame`] is tested against.
+    #[cfg(test)]
+    fn process_frame_reference(&mut self, l: f32, r: f32) -> (f32, f32) {
         let l = if l.is_finite() { l } else { 0.0 };
         let r = if r.is_finite() { r } else { 0.0 };
         let peak = l.abs().max(r.abs());
@@ -308,7 +413,7 @@ impl Limiter {
             return;
         }
         let len = self.len;
-        let mut slot = (self.t % len as u64) as usize;
+        let mut slot = self.slot;
         let mut done = 0;
         while done < m {
             let k = (len - slot).min(m - done);
@@ -333,6 +438,8 @@ impl Limiter {
         self.deque[self.dq_head] = last;
         self.dq_len = 1;
         self.t += m as u64;
+        self.slot = slot;
+        self.req_pos = (self.req_pos + m) % (len + 1);
         self.calm = self.calm.saturating_add(m as u64);
     }
 
@@ -393,6 +500,54 @@ mod tests {
                 (s >> 8) as f32 / (1u32 << 24) as f32 - 0.5
             })
             .collect()
+    }
+
+    /// The division-free frame path gives, bit for bit, what the first version (a division
+    /// for every ring index) gives, and the same state: loud noise, slow loud sines, quiet
+    /// stretches, NaN and infinity, at 44.1, 48 and 96 kHz, enabled and not.
+    #[test]
+    fn frame_path_matches_the_division_reference() {
+        for fs in [44_100.0, 48_000.0, 96_000.0] {
+            for enabled in [true, false] {
+                let mut new = Limiter::new(fs);
+                new.set_enabled(enabled);
+                let mut reference = new.clone();
+                let mut seed = 11u32;
+                for i in 0..60_000usize {
+                    seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+                    let noise = (seed >> 8) as f32 / (1u32 << 24) as f32 - 0.5;
+                    let sine = (i as f32 * 2.0 * std::f32::consts::PI * 40.0 / 48_000.0).sin();
+                    let x = match (i / 5_000) % 4 {
+                        0 => noise * 3.0,
+                        1 => 4.0 * sine,
+                        2 => noise * 0.2,
+                        _ => 1.5 * sine + noise,
+                    };
+                    let x = match i % 4_999 {
+                        17 => f32::NAN,
+                        18 => f32::INFINITY,
+                        _ => x,
+                    };
+                    let y = -0.8 * x + noise * 0.1;
+                    let a = new.process_frame(x, y);
+                    let b = reference.process_frame_reference(x, y);
+                    assert_eq!(
+                        (a.0.to_bits(), a.1.to_bits()),
+                        (b.0.to_bits(), b.1.to_bits()),
+                        "fs {fs}, enabled {enabled}, sample {i}"
+                    );
+                    assert_eq!(
+                        (new.dq_head, new.dq_len),
+                        (reference.dq_head, reference.dq_len)
+                    );
+                    assert_eq!(new.req_pos as u64, new.t % (new.len as u64 + 1));
+                    assert_eq!(new.slot as u64, new.t % new.len as u64);
+                }
+                assert_eq!(new.touched(), reference.touched());
+                assert_eq!(new.box_sum.to_bits(), reference.box_sum.to_bits());
+                assert_eq!(new.calm, reference.calm);
+            }
+        }
     }
 
     /// The running minimum is exact when the required gain rises for longer than the window
@@ -478,6 +633,7 @@ mod tests {
                 assert_eq!(fast.released.to_bits(), slow.released.to_bits());
                 assert_eq!((fast.dq_head, fast.dq_len), (slow.dq_head, slow.dq_len));
                 assert_eq!(fast.calm, slow.calm);
+                assert_eq!((fast.req_pos, fast.slot), (slow.req_pos, slow.slot));
                 if block % 100 == 0 {
                     assert_eq!(fast.gain_reduction_db(), slow.gain_reduction_db());
                 }
