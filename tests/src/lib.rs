@@ -299,6 +299,7 @@ impl Bundle {
             steady_time: 0,
             song_samples: 0,
             out: [Vec::new(), Vec::new()],
+            process_time: std::time::Duration::ZERO,
         })
     }
 }
@@ -312,9 +313,18 @@ pub struct Instance {
     steady_time: u64,
     song_samples: u64,
     out: [Vec<f32>; 2],
+    /// Wall time spent inside the plugin's `process` calls ([`Instance::take_process_time`]).
+    process_time: std::time::Duration,
 }
 
 impl Instance {
+    /// The wall time the audio thread spent inside the plugin's `process` calls since the
+    /// last call (only the calls themselves: not the host's NaN fill, copies or checks), and
+    /// restart the count. For cost measurements (`examples/plugin_cost.rs`).
+    pub fn take_process_time(&mut self) -> std::time::Duration {
+        std::mem::take(&mut self.process_time)
+    }
+
     fn params_ext(&self) -> Result<PluginParams, HostError> {
         self.instance
             .access_shared_handler(|s| s.params.get().copied().flatten())
@@ -652,6 +662,7 @@ impl Instance {
         let processor = self.processor.as_mut().expect("checked above");
         let out = &mut self.out;
         let steady_time = &mut self.steady_time;
+        let process_time = &mut self.process_time;
         let result_ref = &mut result;
         let instance = &mut self.instance;
         let state_ext = match save_after {
@@ -686,16 +697,17 @@ impl Instance {
                         ),
                     }]);
                     out_events.clear();
-                    started
-                        .process(
-                            &InputAudioBuffers::empty(),
-                            &mut outputs,
-                            &events.as_input(),
-                            &mut out_events.as_output(),
-                            Some(*steady_time),
-                            transport.as_ref(),
-                        )
-                        .map_err(|e| err(format!("process (block {i}): {e}")))?;
+                    let t = std::time::Instant::now();
+                    let status = started.process(
+                        &InputAudioBuffers::empty(),
+                        &mut outputs,
+                        &events.as_input(),
+                        &mut out_events.as_output(),
+                        Some(*steady_time),
+                        transport.as_ref(),
+                    );
+                    *process_time += t.elapsed();
+                    status.map_err(|e| err(format!("process (block {i}): {e}")))?;
                     *steady_time += len as u64;
                     result_ref[0].extend_from_slice(&l[..len]);
                     result_ref[1].extend_from_slice(&r[..len]);

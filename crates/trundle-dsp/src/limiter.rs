@@ -71,9 +71,17 @@ pub struct Limiter {
     release_coef: f64,
     /// Samples processed since `reset`.
     t: u64,
+    /// `t % (len + 1)` (the newest required gain's place in `req`) and `t % len` (the delay
+    /// lines' and box's slot), kept by increments: no division per frame.
+    req_pos: usize,
+    slot: usize,
     /// Smallest gain applied since the meter was last read.
     meter_min: f32,
     touched: u64,
+    /// Consecutive samples, up to now, whose required gain was 1 and after which the released
+    /// gain was exactly 1. At `len + 1` or more the limiter is at rest (see
+    /// [`Limiter::process_stereo`]).
+    calm: u64,
 }
 
 impl Limiter {
@@ -97,8 +105,11 @@ impl Limiter {
             released: 1.0,
             release_coef: 0.0,
             t: 0,
+            req_pos: 0,
+            slot: 0,
             meter_min: 1.0,
             touched: 0,
+            calm: 0,
         };
         l.set_sample_rate(sample_rate_hz);
         l
@@ -135,8 +146,12 @@ impl Limiter {
         self.dq_len = 0;
         self.released = 1.0;
         self.t = 0;
+        self.req_pos = 0;
+        self.slot = 0;
         self.meter_min = 1.0;
         self.touched = 0;
+        // Every required and released gain is 1: at rest.
+        self.calm = (self.len + 1) as u64;
     }
 
     /// Turn the gain stage on or off; the delay (latency) stays either way.
@@ -192,6 +207,103 @@ impl Limiter {
         // Running minimum over the last len + 1 required gains (monotonic deque).
         let cap = self.len + 1;
         let t = self.t;
+        let pos = self.req_pos;
+        // Ring arithmetic without division: indices below 2·cap wrap by one subtraction, and
+        // the gain that entered `age` ≤ cap frames ago sits `age` places before `pos`
+        // (`(t − age) % cap`, as the deque stores times).
+        let wrap = |i: usize| if i >= cap { i - cap } else { i };
+        let at_age = |age: u64| {
+            let age = age as usize;
+            if pos >= age {
+                pos - age
+            } else {
+                pos + cap - age
+            }
+        };
+        self.req[pos] = g_req;
+        while self.dq_len > 0 {
+            let back = self.deque[wrap(self.dq_head + self.dq_len - 1)];
+            if self.req[at_age(t - back)] >= g_req {
+                self.dq_len -= 1;
+            } else {
+                break;
+            }
+        }
+        // Drop the entry leaving the window before pushing: the window holds len + 1 gains,
+        // so the ring of len + 1 never overflows. (Pushing first overflowed it whenever the
+        // required gain rose for more than len + 1 samples in a row — a loud peak decaying
+        // slowly — and the ring's oldest entries were overwritten.)
+        while self.dq_len > 0 && t - self.deque[self.dq_head] >= cap as u64 {
+            self.dq_head = wrap(self.dq_head + 1);
+            self.dq_len -= 1;
+        }
+        self.deque[wrap(self.dq_head + self.dq_len)] = t;
+        self.dq_len += 1;
+        let held = self.req[at_age(t - self.deque[self.dq_head])];
+        // Release: fall at once, rise by a one-pole.
+        // Release in f64 (in f32 the one-pole's step rounds to nothing 10⁻⁴ below unity
+        // and the gain would stall there); within 10⁻⁹ of the held gain it snaps to it, so
+        // an idle limiter is exactly transparent. Still ≤ the held gain: the ceiling holds.
+        let held = f64::from(held);
+        self.released = if held < self.released {
+            held
+        } else {
+            let next = self.released + (held - self.released) * self.release_coef;
+            if held - next < 1e-9 {
+                held
+            } else {
+                next
+            }
+        };
+        // Box average over the last len released gains.
+        let slot = self.slot;
+        self.slot = if slot + 1 == self.len { 0 } else { slot + 1 };
+        self.req_pos = wrap(pos + 1);
+        self.box_sum += self.released - self.box_vals[slot];
+        self.box_vals[slot] = self.released;
+        if slot == 0 {
+            // Re-sum once per window: no drift of the running sum, however long the render.
+            self.box_sum = self.box_vals.iter().sum();
+        }
+        let gain = ((self.box_sum / self.len as f64) as f32).min(1.0);
+        self.calm = if g_req == 1.0 && self.released == 1.0 {
+            self.calm.saturating_add(1)
+        } else {
+            0
+        };
+        // Delay line.
+        let dl = std::mem::replace(&mut self.delay_l[slot], l);
+        let dr = std::mem::replace(&mut self.delay_r[slot], r);
+        self.t += 1;
+        if !self.enabled {
+            return (dl, dr);
+        }
+        if gain < 1.0 - 1e-6 {
+            self.touched += 1;
+        }
+        self.meter_min = self.meter_min.min(gain);
+        let c = self.ceiling;
+        (
+            flush((dl * gain).clamp(-c, c)),
+            flush((dr * gain).clamp(-c, c)),
+        )
+    }
+
+    /// The frame path as it was written first (divisions for every ring index): the
+    /// reference the division-free [`Limiter::process_frame`] is tested against.
+    #[cfg(test)]
+    fn process_frame_reference(&mut self, l: f32, r: f32) -> (f32, f32) {
+        let l = if l.is_finite() { l } else { 0.0 };
+        let r = if r.is_finite() { r } else { 0.0 };
+        let peak = l.abs().max(r.abs());
+        let g_req = if peak > self.ceiling {
+            self.ceiling / peak
+        } else {
+            1.0
+        };
+        // Running minimum over the last len + 1 required gains (monotonic deque).
+        let cap = self.len + 1;
+        let t = self.t;
         self.req[(t % cap as u64) as usize] = g_req;
         while self.dq_len > 0 {
             let back = self.deque[(self.dq_head + self.dq_len - 1) % cap];
@@ -201,12 +313,16 @@ impl Limiter {
                 break;
             }
         }
-        self.deque[(self.dq_head + self.dq_len) % cap] = t;
-        self.dq_len += 1;
-        while t - self.deque[self.dq_head] >= cap as u64 {
+        // Drop the entry leaving the window before pushing: the window holds len + 1 gains,
+        // so the ring of len + 1 never overflows. (Pushing first overflowed it whenever the
+        // required gain rose for more than len + 1 samples in a row — a loud peak decaying
+        // slowly — and the ring's oldest entries were overwritten.)
+        while self.dq_len > 0 && t - self.deque[self.dq_head] >= cap as u64 {
             self.dq_head = (self.dq_head + 1) % cap;
             self.dq_len -= 1;
         }
+        self.deque[(self.dq_head + self.dq_len) % cap] = t;
+        self.dq_len += 1;
         let held = self.req[(self.deque[self.dq_head] % cap as u64) as usize];
         // Release: fall at once, rise by a one-pole.
         // Release in f64 (in f32 the one-pole's step rounds to nothing 10⁻⁴ below unity
@@ -232,6 +348,11 @@ impl Limiter {
             self.box_sum = self.box_vals.iter().sum();
         }
         let gain = ((self.box_sum / self.len as f64) as f32).min(1.0);
+        self.calm = if g_req == 1.0 && self.released == 1.0 {
+            self.calm.saturating_add(1)
+        } else {
+            0
+        };
         // Delay line.
         let dl = std::mem::replace(&mut self.delay_l[slot], l);
         let dr = std::mem::replace(&mut self.delay_r[slot], r);
@@ -250,11 +371,76 @@ impl Limiter {
         )
     }
 
-    /// Process a stereo block in place (any length; real-time safe).
+    /// Process a stereo block in place (any length; real-time safe). Bit for bit the same as
+    /// [`Limiter::process_frame`] on every frame, but much cheaper at rest: while every
+    /// required gain in the look-ahead window and every released gain in the averaging window
+    /// is exactly 1 (the limiter has not acted for `len + 1` samples, `calm`) and the running
+    /// sum is exact, a frame with both samples within the ceiling (which also means finite)
+    /// needs g_req = 1, leaves the gain state as it is and is only delayed (times a gain of
+    /// exactly 1, clamped, flushed: the same operations as the frame path). That stretch
+    /// takes the fast path; the first frame above the ceiling and everything after it in the
+    /// block take the per-frame path.
     pub fn process_stereo(&mut self, left: &mut [f32], right: &mut [f32]) {
-        for (l, r) in left.iter_mut().zip(right.iter_mut()) {
+        let n = left.len().min(right.len());
+        let (left, right) = (&mut left[..n], &mut right[..n]);
+        let mut start = 0;
+        if self.calm > self.len as u64 && self.box_sum == self.len as f64 {
+            let c = self.ceiling;
+            let within = |x: &f32| x.abs() <= c; // false for NaN and ±inf
+                                                 // Usually the whole block: one branch-free pass (vectorised), no search.
+            let all = left.iter().fold(true, |ok, x| ok & within(x))
+                & right.iter().fold(true, |ok, x| ok & within(x));
+            start = if all {
+                n
+            } else {
+                left.iter()
+                    .zip(right.iter())
+                    .position(|(l, r)| !(within(l) && within(r)))
+                    .unwrap_or(n)
+            };
+            self.pass_at_rest(&mut left[..start], &mut right[..start]);
+        }
+        for (l, r) in left[start..].iter_mut().zip(right[start..].iter_mut()) {
             (*l, *r) = self.process_frame(*l, *r);
         }
+    }
+
+    /// The fast path of [`Limiter::process_stereo`]: frames within the ceiling through a
+    /// limiter at rest. Leaves exactly the state the frame path would.
+    fn pass_at_rest(&mut self, left: &mut [f32], right: &mut [f32]) {
+        let m = left.len();
+        if m == 0 {
+            return;
+        }
+        let len = self.len;
+        let mut slot = self.slot;
+        let mut done = 0;
+        while done < m {
+            let k = (len - slot).min(m - done);
+            let (l, r) = (&mut left[done..done + k], &mut right[done..done + k]);
+            l.swap_with_slice(&mut self.delay_l[slot..slot + k]);
+            r.swap_with_slice(&mut self.delay_r[slot..slot + k]);
+            done += k;
+            slot = if slot + k == len { 0 } else { slot + k };
+        }
+        if self.enabled {
+            // The gain is exactly 1 (box_sum = len), and every sample now in the delay line
+            // entered with g_req = 1, i.e. within the ceiling (or non-finite, stored as 0):
+            // the frame path's flush((x · 1).clamp(−c, c)) is flush(x), bit for bit.
+            let zap = |x: &mut f32| *x = flush(*x);
+            left.iter_mut().for_each(zap);
+            right.iter_mut().for_each(zap);
+            self.meter_min = self.meter_min.min(1.0);
+        }
+        // The gain state after m frames with g_req = 1: the required gains in the ring are 1
+        // already, the deque holds only the newest frame, released and the box stay 1.
+        let last = self.t + m as u64 - 1;
+        self.deque[self.dq_head] = last;
+        self.dq_len = 1;
+        self.t += m as u64;
+        self.slot = slot;
+        self.req_pos = (self.req_pos + m) % (len + 1);
+        self.calm = self.calm.saturating_add(m as u64);
     }
 
     /// Process a mono block in place (both channels of the detector are the signal).
@@ -314,6 +500,145 @@ mod tests {
                 (s >> 8) as f32 / (1u32 << 24) as f32 - 0.5
             })
             .collect()
+    }
+
+    /// The division-free frame path gives, bit for bit, what the first version (a division
+    /// for every ring index) gives, and the same state: loud noise, slow loud sines, quiet
+    /// stretches, NaN and infinity, at 44.1, 48 and 96 kHz, enabled and not.
+    #[test]
+    fn frame_path_matches_the_division_reference() {
+        for fs in [44_100.0, 48_000.0, 96_000.0] {
+            for enabled in [true, false] {
+                let mut new = Limiter::new(fs);
+                new.set_enabled(enabled);
+                let mut reference = new.clone();
+                let mut seed = 11u32;
+                for i in 0..60_000usize {
+                    seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+                    let noise = (seed >> 8) as f32 / (1u32 << 24) as f32 - 0.5;
+                    let sine = (i as f32 * 2.0 * std::f32::consts::PI * 40.0 / 48_000.0).sin();
+                    let x = match (i / 5_000) % 4 {
+                        0 => noise * 3.0,
+                        1 => 4.0 * sine,
+                        2 => noise * 0.2,
+                        _ => 1.5 * sine + noise,
+                    };
+                    let x = match i % 4_999 {
+                        17 => f32::NAN,
+                        18 => f32::INFINITY,
+                        _ => x,
+                    };
+                    let y = -0.8 * x + noise * 0.1;
+                    let a = new.process_frame(x, y);
+                    let b = reference.process_frame_reference(x, y);
+                    assert_eq!(
+                        (a.0.to_bits(), a.1.to_bits()),
+                        (b.0.to_bits(), b.1.to_bits()),
+                        "fs {fs}, enabled {enabled}, sample {i}"
+                    );
+                    assert_eq!(
+                        (new.dq_head, new.dq_len),
+                        (reference.dq_head, reference.dq_len)
+                    );
+                    assert_eq!(new.req_pos as u64, new.t % (new.len as u64 + 1));
+                    assert_eq!(new.slot as u64, new.t % new.len as u64);
+                }
+                assert_eq!(new.touched(), reference.touched());
+                assert_eq!(new.box_sum.to_bits(), reference.box_sum.to_bits());
+                assert_eq!(new.calm, reference.calm);
+            }
+        }
+    }
+
+    /// The running minimum is exact when the required gain rises for longer than the window
+    /// (a slow fall from a loud peak: a 30 Hz sine at 4× the ceiling): the deque never holds
+    /// more than the window, and the held gain is the true minimum of the last len + 1.
+    #[test]
+    fn running_minimum_survives_long_rising_gain_runs() {
+        let mut lim = Limiter::new(48_000.0);
+        let cap = lim.len + 1;
+        let mut reqs: Vec<f32> = Vec::new();
+        for i in 0..48_000 {
+            let x = 4.0 * (i as f32 * 2.0 * std::f32::consts::PI * 30.0 / 48_000.0).sin();
+            let peak = x.abs();
+            reqs.push(if peak > lim.ceiling() {
+                lim.ceiling() / peak
+            } else {
+                1.0
+            });
+            lim.process_frame(x, -x);
+            assert!(
+                lim.dq_len <= cap,
+                "sample {i}: deque {} > ring {cap}",
+                lim.dq_len
+            );
+            let want = reqs[reqs.len().saturating_sub(cap)..]
+                .iter()
+                .fold(1.0f32, |m, g| m.min(*g));
+            let held = lim.req[(lim.deque[lim.dq_head] % cap as u64) as usize];
+            assert_eq!(held, want, "sample {i}");
+        }
+    }
+
+    /// `process_stereo` (with its fast path at rest) gives exactly what `process_frame` gives
+    /// frame by frame, and leaves the same state: quiet stretches, peaks above the ceiling,
+    /// non-finite samples, exact-ceiling samples, blocks of every size, enabled and not.
+    #[test]
+    fn block_path_is_bit_identical_to_the_frame_path() {
+        for enabled in [true, false] {
+            let mut fast = Limiter::new(48_000.0);
+            fast.set_enabled(enabled);
+            let mut slow = fast.clone();
+            let c = fast.ceiling();
+            let mut seed = 7u32;
+            let mut rnd = move || {
+                seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+                (seed >> 8) as f32 / (1u32 << 24) as f32
+            };
+            let mut at = 0usize;
+            for block in 0..3_000 {
+                let n = [1, 7, 64, 71, 72, 73, 200, 512][block % 8];
+                let loud = block % 37 == 5 || block % 53 == 11;
+                let mut l: Vec<f32> = (0..n)
+                    .map(|i| {
+                        let x = (rnd() - 0.5) * if loud && i == n / 2 { 4.0 } else { 0.5 };
+                        match (block + i) % 997 {
+                            3 => f32::NAN,
+                            4 => c,
+                            5 => -0.0,
+                            6 => 1e-35,
+                            _ => x,
+                        }
+                    })
+                    .collect();
+                let mut r: Vec<f32> = l.iter().map(|x| x * 0.7 + (rnd() - 0.5) * 0.1).collect();
+                let want: Vec<(f32, f32)> = l
+                    .iter()
+                    .zip(&r)
+                    .map(|(a, b)| slow.process_frame(*a, *b))
+                    .collect();
+                fast.process_stereo(&mut l, &mut r);
+                for (i, (w, (a, b))) in want.iter().zip(l.iter().zip(&r)).enumerate() {
+                    assert_eq!(
+                        (w.0.to_bits(), w.1.to_bits()),
+                        (a.to_bits(), b.to_bits()),
+                        "enabled {enabled}, sample {}",
+                        at + i
+                    );
+                }
+                at += n;
+                assert_eq!(fast.touched(), slow.touched());
+                assert_eq!(fast.t, slow.t);
+                assert_eq!(fast.box_sum.to_bits(), slow.box_sum.to_bits());
+                assert_eq!(fast.released.to_bits(), slow.released.to_bits());
+                assert_eq!((fast.dq_head, fast.dq_len), (slow.dq_head, slow.dq_len));
+                assert_eq!(fast.calm, slow.calm);
+                assert_eq!((fast.req_pos, fast.slot), (slow.req_pos, slow.slot));
+                if block % 100 == 0 {
+                    assert_eq!(fast.gain_reduction_db(), slow.gain_reduction_db());
+                }
+            }
+        }
     }
 
     #[test]
