@@ -28,8 +28,10 @@ use clack_extensions::params::{
 };
 use clack_extensions::state::{HostState, HostStateImpl, PluginState};
 use clack_extensions::thread_check::{HostThreadCheck, HostThreadCheckImpl};
+pub use clack_host::events::event_types::NoteExpressionType;
 use clack_host::events::event_types::{
-    NoteOffEvent, NoteOnEvent, ParamValueEvent, TransportEvent, TransportFlags,
+    NoteEndEvent, NoteExpressionEvent, NoteOffEvent, NoteOnEvent, ParamValueEvent, TransportEvent,
+    TransportFlags,
 };
 use clack_host::events::EventFlags;
 use clack_host::events::Match;
@@ -300,6 +302,8 @@ impl Bundle {
             song_samples: 0,
             out: [Vec::new(), Vec::new()],
             process_time: std::time::Duration::ZERO,
+            expressions: Vec::new(),
+            note_ends: Vec::new(),
         })
     }
 }
@@ -315,7 +319,15 @@ pub struct Instance {
     out: [Vec<f32>; 2],
     /// Wall time spent inside the plugin's `process` calls ([`Instance::take_process_time`]).
     process_time: std::time::Duration,
+    /// CLAP note expressions for the blocks of the next render ([`Instance::send_expressions`]).
+    expressions: Vec<Vec<NoteExpression>>,
+    /// The note-end events the plugin sent: (block, key) ([`Instance::take_note_ends`]).
+    note_ends: Vec<(usize, u8)>,
 }
+
+/// A CLAP note expression sent with a block: (offset in the block, key, type, value),
+/// addressed to the note of that key on channel 0, any note id.
+pub type NoteExpression = (u32, u8, NoteExpressionType, f64);
 
 impl Instance {
     /// The wall time the audio thread spent inside the plugin's `process` calls since the
@@ -323,6 +335,17 @@ impl Instance {
     /// restart the count. For cost measurements (`examples/plugin_cost.rs`).
     pub fn take_process_time(&mut self) -> std::time::Duration {
         std::mem::take(&mut self.process_time)
+    }
+
+    /// Send `per_block[i]` with block i of the next render (as CLAP note expressions).
+    pub fn send_expressions(&mut self, per_block: Vec<Vec<NoteExpression>>) {
+        self.expressions = per_block;
+    }
+
+    /// The note-end events (CLAP `NOTE_END`: the plugin says a voice has ended) received
+    /// since the last call, as (block index within its render, key).
+    pub fn take_note_ends(&mut self) -> Vec<(usize, u8)> {
+        std::mem::take(&mut self.note_ends)
     }
 
     fn params_ext(&self) -> Result<PluginParams, HostError> {
@@ -653,6 +676,11 @@ impl Instance {
                     None => events.push(&NoteOffEvent::new(time, pckn, 0.0)),
                 }
             }
+            let block = prepared.len();
+            for &(time, key, kind, value) in self.expressions.get(block).into_iter().flatten() {
+                let pckn = Pckn::new(0u16, 0u16, u16::from(key), Match::All);
+                events.push(&NoteExpressionEvent::new(time, pckn, kind, value));
+            }
             // CLAP wants input events in time order.
             events.sort();
             prepared.push((b.len, events, self.transport_event(b.transport)));
@@ -663,7 +691,9 @@ impl Instance {
         let out = &mut self.out;
         let steady_time = &mut self.steady_time;
         let process_time = &mut self.process_time;
+        self.expressions.clear();
         let result_ref = &mut result;
+        let note_ends = &mut self.note_ends;
         let instance = &mut self.instance;
         let state_ext = match save_after {
             Some(_) => Some(
@@ -708,6 +738,12 @@ impl Instance {
                     );
                     *process_time += t.elapsed();
                     status.map_err(|e| err(format!("process (block {i}): {e}")))?;
+                    for e in out_events.iter() {
+                        if let Some(end) = e.as_event::<NoteEndEvent>() {
+                            let key = end.pckn().raw_key();
+                            note_ends.push((i, u8::try_from(key).unwrap_or(u8::MAX)));
+                        }
+                    }
                     *steady_time += len as u64;
                     result_ref[0].extend_from_slice(&l[..len]);
                     result_ref[1].extend_from_slice(&r[..len]);
