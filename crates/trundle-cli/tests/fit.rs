@@ -392,6 +392,7 @@ fn a_roll_on_a_known_object_is_fitted_through_its_inverse() {
         duration_s: 1.0,
         residual_db: -100.0,
         peak: 1.0,
+        spectrum: vec![],
     };
     let object_path = d.join("default.object.json");
     fs::write(

@@ -53,6 +53,7 @@ fn truth(sample_rate_hz: f64) -> FittedObject {
         duration_s: 2.0,
         residual_db: -60.0,
         peak: 0.5,
+        spectrum: vec![],
     }
 }
 
