@@ -298,11 +298,17 @@ fn real_strikes_are_reproduced_by_the_fitted_object() {
                 .map(|(&p, &q)| 0.5 * f64::from(p + q))
                 .collect::<Vec<f64>>()
         };
-        let with = third_octave_distance(decay, &play(true), fs);
-        let without = third_octave_distance(decay, &play(false), fs);
-        let exact = third_octave_distance(decay, &resynthesize(&fit.modes, fs, n), fs);
+        let (pw, pn) = (play(true), play(false));
+        let model = resynthesize(&fit.modes, fs, n);
+        let with = third_octave_distance(decay, &pw, fs);
+        let without = third_octave_distance(decay, &pn, fs);
+        let exact = third_octave_distance(decay, &model, fs);
+        let lsd = |y: &[f64]| trundle_dsp::fit::log_spectral_distance_db(decay, y, fs);
         println!(
-            "{file}: third-octave distance {with:.2} dB with the band part, {without:.2} dB modes only ({exact:.2} dB the modes with their own phases)"
+            "{file}: third-octave distance {with:.2} dB with the band part, {without:.2} dB modes only ({exact:.2} dB the modes with their own phases); log-spectral distance (per bin) {:.1} / {:.1} / {:.1} dB",
+            lsd(&pw),
+            lsd(&pn),
+            lsd(&model)
         );
         // The band part only adds what the played modes miss: never worse.
         assert!(with <= without + 0.1, "{file}: {with} vs {without}");
