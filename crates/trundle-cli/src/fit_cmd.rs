@@ -118,7 +118,10 @@ pub fn run(args: &FitObjectArgs) -> Result<String, CliError> {
             fs,
             p,
             &format!("{source}: recording and fitted object (impulse response)"),
-            ["recording (from the strike's peak)", "render --object … --impulse"],
+            [
+                "recording (from the strike's peak)",
+                "render --object … --impulse",
+            ],
         )?;
     }
     if args.json {

@@ -163,9 +163,7 @@ pub fn plot(
                     RGBColor(r, g, b).filled(),
                 )))
                 .map_err(|e| err(e.to_string()))?;
-            chart
-                .draw_series(cells)
-                .map_err(|e| err(e.to_string()))?;
+            chart.draw_series(cells).map_err(|e| err(e.to_string()))?;
         }
         root.present().map_err(|e| err(e.to_string()))?;
     }

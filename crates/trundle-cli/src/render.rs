@@ -36,13 +36,13 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::fs::File;
 use std::io::{self, IsTerminal, Read};
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use std::time::Instant;
 use trundle_dsp::events::{process_stereo_with_events, process_with_events, Scene, VoiceEvent};
 use trundle_dsp::limiter::Limiting;
+use trundle_dsp::object::fitted::{self, LoadedObject, ObjectFile};
 use trundle_dsp::params::{spec_by_key, Output, ParamEnum, ParamId};
 use trundle_dsp::preset::{Lane, Preset, DEFAULT_PRESET};
-use std::sync::Arc;
-use trundle_dsp::object::fitted::{self, LoadedObject, ObjectFile};
 use trundle_dsp::{Params, Voice};
 
 /// Length of a render unless `--seconds` says otherwise.
@@ -233,7 +233,12 @@ pub const MAX_IMPULSE_SECONDS: f64 = 60.0;
 /// Read, parse and validate an object file (`trundle fit-object`) and prepare it for the
 /// voice; errors name the file and the problem (exit code 2).
 pub fn load_object(path: &Path) -> Result<Arc<LoadedObject>, CliError> {
-    let err = |what: String| input(format!("--object {}: {what}", quote(&path.display().to_string())));
+    let err = |what: String| {
+        input(format!(
+            "--object {}: {what}",
+            quote(&path.display().to_string())
+        ))
+    };
     let file = File::open(path).map_err(|e| err(format!("cannot open: {e}")))?;
     let mut bytes = Vec::new();
     file.take(MAX_OBJECT_BYTES + 1)
@@ -284,9 +289,9 @@ fn plan(args: &RenderArgs) -> Result<Plan, CliError> {
     let preset = load_preset(&args.preset)?;
     let object = match &args.object {
         Some(path) => Some(load_object(path)?),
-        None => preset.loaded_object().map_err(|e| {
-            input(format!("--preset {}: {e}", quote(&args.preset)))
-        })?,
+        None => preset
+            .loaded_object()
+            .map_err(|e| input(format!("--preset {}: {e}", quote(&args.preset))))?,
     };
     let mut params = preset.params;
     let mut automation = preset.automation.clone();

@@ -58,8 +58,20 @@ fn impulse_and_fit_back(dir: &Path, object: &Path, rate: &str) {
     common::ok(
         dir,
         &[
-            "render", "--object", s(object), "--impulse", "--seconds", "2", "--sample-rate",
-            rate, "--format", "f32", "--channels", "1", "-o", s(&wav),
+            "render",
+            "--object",
+            s(object),
+            "--impulse",
+            "--seconds",
+            "2",
+            "--sample-rate",
+            rate,
+            "--format",
+            "f32",
+            "--channels",
+            "1",
+            "-o",
+            s(&wav),
         ],
     );
     let (spec, _) = common::read_wav(&wav);
@@ -117,8 +129,14 @@ fn an_impulse_render_without_seconds_stops_90_db_down() {
     let d = scratch("length");
     let obj = write_object(&d, "o.object.json", &object_json(48_000.0));
     let wav = d.join("ir.wav");
-    let out = common::ok(&d, &["render", "--object", s(&obj), "--impulse", "-o", s(&wav)]);
-    assert!(out.contains("impulse response of the fitted object from synthetic"), "{out}");
+    let out = common::ok(
+        &d,
+        &["render", "--object", s(&obj), "--impulse", "-o", s(&wav)],
+    );
+    assert!(
+        out.contains("impulse response of the fitted object from synthetic"),
+        "{out}"
+    );
     let (spec, x) = common::read_wav(&wav);
     let seconds = x.len() as f64 / f64::from(spec.channels) / f64::from(spec.sample_rate);
     // The longest mode (0.9 s) falls 90 dB in 0.9·ln(10^4.5) = 9.3 s.
@@ -141,7 +159,18 @@ fn a_preset_with_an_object_entry_renders_and_differs_from_the_recipe() {
         let wav = d.join(name);
         common::ok(
             &d,
-            &["render", "--preset", s(p), "--seconds", "1", "--format", "f32", "--no-normalize", "-o", s(&wav)],
+            &[
+                "render",
+                "--preset",
+                s(p),
+                "--seconds",
+                "1",
+                "--format",
+                "f32",
+                "--no-normalize",
+                "-o",
+                s(&wav),
+            ],
         );
         common::read_wav(&wav).1
     };
@@ -156,13 +185,29 @@ fn a_preset_with_an_object_entry_renders_and_differs_from_the_recipe() {
     let wav = d.join("flag.wav");
     common::ok(
         &d,
-        &["render", "--preset", s(&recipe), "--object", s(&obj), "--seconds", "1", "--format", "f32", "--no-normalize", "-o", s(&wav)],
+        &[
+            "render",
+            "--preset",
+            s(&recipe),
+            "--object",
+            s(&obj),
+            "--seconds",
+            "1",
+            "--format",
+            "f32",
+            "--no-normalize",
+            "-o",
+            s(&wav),
+        ],
     );
     assert_eq!(common::read_wav(&wav).1, b);
     // The built-in fitted presets render.
     for name in ["marble-in-agogo-bell", "ball-on-cowbell"] {
         let wav = d.join(format!("{name}.wav"));
-        let out = common::ok(&d, &["render", "--preset", name, "--seconds", "1", "-o", s(&wav)]);
+        let out = common::ok(
+            &d,
+            &["render", "--preset", name, "--seconds", "1", "-o", s(&wav)],
+        );
         assert!(out.contains("fitted object from"), "{out}");
     }
 }
@@ -200,15 +245,28 @@ fn bad_object_files_are_refused_with_exit_code_2_naming_the_file() {
     let mut v = object_json(48_000.0);
     v["modes"][0]["decay_s"] = json!(0.0);
     let dead = write_object(&d, "dead.object.json", &v);
-    expect(&["render", "--object", s(&dead), "-o", s(&wav)], &["mode 0", "decay"]);
+    expect(
+        &["render", "--object", s(&dead), "-o", s(&wav)],
+        &["mode 0", "decay"],
+    );
     let mut v = object_json(48_000.0);
     v["trundle_object"] = json!(2);
     let newer = write_object(&d, "newer.object.json", &v);
-    expect(&["render", "--object", s(&newer), "-o", s(&wav)], &["newer"]);
-    let preset = write_object(&d, "p.json", &json!({
-        "trundle_preset": 1, "name": "x", "object": {"trundle_object": 1}
-    }));
-    expect(&["render", "--preset", s(&preset), "-o", s(&wav)], &["p.json", "object:"]);
+    expect(
+        &["render", "--object", s(&newer), "-o", s(&wav)],
+        &["newer"],
+    );
+    let preset = write_object(
+        &d,
+        "p.json",
+        &json!({
+            "trundle_preset": 1, "name": "x", "object": {"trundle_object": 1}
+        }),
+    );
+    expect(
+        &["render", "--preset", s(&preset), "-o", s(&wav)],
+        &["p.json", "object:"],
+    );
 }
 
 /// Where Debian's `hydrogen-drumkits` installs its kits.
@@ -254,10 +312,19 @@ fn third_octave_distance(a: &[f64], b: &[f64], fs: f64) -> f64 {
     let (sa, sb) = (third_octaves(a, fs), third_octaves(b, fs));
     if std::env::var("OBJECT_BANDS").is_ok() {
         for (i, (x, y)) in sa.iter().zip(&sb).enumerate() {
-            println!("  {:8.0} {x:7.1} {y:7.1} {:+6.1}", 1000.0 * 2f64.powf((i as f64 - 13.0) / 3.0), y - x);
+            println!(
+                "  {:8.0} {x:7.1} {y:7.1} {:+6.1}",
+                1000.0 * 2f64.powf((i as f64 - 13.0) / 3.0),
+                y - x
+            );
         }
     }
-    (sa.iter().zip(&sb).map(|(x, y)| (x - y).powi(2)).sum::<f64>() / sa.len() as f64).sqrt()
+    (sa.iter()
+        .zip(&sb)
+        .map(|(x, y)| (x - y).powi(2))
+        .sum::<f64>()
+        / sa.len() as f64)
+        .sqrt()
 }
 
 /// Real strikes (Debian's `hydrogen-drumkits`): the recording's decay against the fitted
@@ -276,10 +343,16 @@ fn real_strikes_are_reproduced_by_the_fitted_object() {
         println!("SKIPPED: {KITS} not found — install Debian's hydrogen-drumkits");
         return;
     }
-    for file in ["ForzeeStereo/AgogoLow-0.wav", "ForzeeStereo/AgogoHigh-0.wav"] {
+    for file in [
+        "ForzeeStereo/AgogoLow-0.wav",
+        "ForzeeStereo/AgogoHigh-0.wav",
+    ] {
         let (spec, x) = common::read_wav(&Path::new(KITS).join(file));
         let ch = usize::from(spec.channels);
-        let mono: Vec<f64> = x.chunks(ch).map(|f| f.iter().sum::<f64>() / ch as f64).collect();
+        let mono: Vec<f64> = x
+            .chunks(ch)
+            .map(|f| f.iter().sum::<f64>() / ch as f64)
+            .collect();
         let fs = f64::from(spec.sample_rate);
         let fit = fit_strike(&mono, fs).unwrap();
         let a = (fit.onset_s * fs).round() as usize;

@@ -68,12 +68,12 @@
 pub mod fitted;
 
 use crate::material::Material;
-use fitted::{LoadedObject, BANDS, BAND_MODES, SIDE_SPREAD, TILT_REF_HZ};
-use std::sync::Arc;
 use crate::modal::{phasor_coeffs, LongBank, ModalBank, ModeCoeffs, LANES, LONG_MODE_SAMPLES};
 use crate::params::{ParamEnum, ParamId};
 use crate::shape::{PositionShapes, Shape, ShapeTables, MAX_MODES, REFERENCE_MODES};
 use crate::smooth::Smoother;
+use fitted::{LoadedObject, BANDS, BAND_MODES, SIDE_SPREAD, TILT_REF_HZ};
+use std::sync::Arc;
 
 /// Output level constant G (calibrated so the default scene plays around −20 dBFS RMS).
 pub const OBJECT_LEVEL: f64 = 300.0;
@@ -1064,7 +1064,8 @@ impl Object {
                 1.0
             };
             let k = if k.is_finite() { k } else { 1.0 };
-            let tau = (tau * decay * k).clamp(crate::material::DECAY_MIN_S, crate::material::DECAY_MAX_S);
+            let tau =
+                (tau * decay * k).clamp(crate::material::DECAY_MIN_S, crate::material::DECAY_MAX_S);
             let a = if dtilt == 0.0 {
                 a
             } else {
@@ -1181,7 +1182,11 @@ impl Object {
             let culled = sounding && a * a * self.info[k].decay_s < cull_below;
             self.culled += culled as usize;
             let g = if sounding { a * norm } else { 0.0 };
-            let d = if sounding { w * SIDE_SPREAD * self.pick[k][0] } else { self.info[k].side };
+            let d = if sounding {
+                w * SIDE_SPREAD * self.pick[k][0]
+            } else {
+                self.info[k].side
+            };
             self.info[k].gain = g;
             self.info[k].side = d;
             if sounding && !culled {

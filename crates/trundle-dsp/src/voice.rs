@@ -27,13 +27,13 @@ use crate::dcblock::DcBlock;
 use crate::engine_mix::EngineMix;
 use crate::object::fitted::LoadedObject;
 use crate::object::{Object, ObjectControls};
-use std::sync::Arc;
 use crate::params::{ParamId, Params};
 use crate::physics::PhysicsEngine;
 use crate::smooth::Smoother;
 use crate::source::{ImpactRecord, Source, SourceControls};
 use crate::space::{Space, SpaceControls};
 use crate::CHUNK;
+use std::sync::Arc;
 
 /// Gain applied to the raw force when the output is the force (its peaks are then about
 /// −6 dBFS at the default settings).

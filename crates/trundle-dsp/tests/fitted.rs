@@ -38,8 +38,8 @@ fn truth(sample_rate_hz: f64) -> FittedObject {
     FittedObject {
         sample_rate_hz,
         modes: vec![
-            m(180.0, 1.2, 0.30, -1.5707963),
-            m(523.0, 0.6, 0.20, 1.5707963),
+            m(180.0, 1.2, 0.30, -core::f64::consts::FRAC_PI_2),
+            m(523.0, 0.6, 0.20, core::f64::consts::FRAC_PI_2),
             m(1311.0, 0.35, 0.12, -1.0),
             m(2750.0, 0.2, 0.08, 2.0),
             m(4120.0, 0.15, 0.05, -2.5),
@@ -110,7 +110,11 @@ fn check_modes(truth: &FittedObject, fit: &FittedObject, nyquist: f64) -> (f64, 
 #[test]
 fn an_impulse_render_gives_the_same_modes_back_at_any_rate() {
     let params = Params::default();
-    for (fit_rate, play_rate) in [(48_000.0, 48_000.0), (44_100.0, 96_000.0), (44_100.0, 22_050.0)] {
+    for (fit_rate, play_rate) in [
+        (48_000.0, 48_000.0),
+        (44_100.0, 96_000.0),
+        (44_100.0, 22_050.0),
+    ] {
         let t = truth(fit_rate);
         let n = (2.0 * play_rate) as usize;
         let (l, r) = impulse_response(&params, Some(loaded(t.clone())), play_rate, n, true);
@@ -127,10 +131,10 @@ fn an_impulse_render_gives_the_same_modes_back_at_any_rate() {
         if play_rate < 24_000.0 {
             // Modes above Nyquist are dropped, not folded.
             assert!(fit.modes.iter().all(|m| m.freq_hz < 0.5 * play_rate));
-            assert!(!fit
-                .modes
-                .iter()
-                .any(|m| (m.freq_hz - 11_900.0).abs() < 50.0 || (m.freq_hz - 22_050.0 + 11_900.0).abs() < 50.0));
+            assert!(
+                !fit.modes.iter().any(|m| (m.freq_hz - 11_900.0).abs() < 50.0
+                    || (m.freq_hz - 22_050.0 + 11_900.0).abs() < 50.0)
+            );
         }
     }
 }
@@ -187,7 +191,12 @@ fn third_octave_distance(a: &[f64], b: &[f64], fs: f64) -> f64 {
             println!("  {x:7.1} {y:7.1} {:+6.1}", y - x);
         }
     }
-    (sa.iter().zip(&sb).map(|(x, y)| (x - y).powi(2)).sum::<f64>() / sa.len() as f64).sqrt()
+    (sa.iter()
+        .zip(&sb)
+        .map(|(x, y)| (x - y).powi(2))
+        .sum::<f64>()
+        / sa.len() as f64)
+        .sqrt()
 }
 
 /// A strike: modes plus a decaying burst of noise (τ = 8 ms) that no mode explains.
@@ -262,10 +271,7 @@ fn quality_caps_the_explicit_modes_and_keeps_the_energy() {
         })
         .filter(|m| m.freq_hz < 20_000.0)
         .collect();
-    let fit = FittedObject {
-        modes,
-        ..truth(fs)
-    };
+    let fit = FittedObject { modes, ..truth(fs) };
     let obj = loaded(fit);
     let energy = |q: Quality| {
         let mut p = Params::default();
@@ -299,9 +305,16 @@ fn decay_scales_decays_and_the_defaults_play_the_object_as_fitted() {
         let f = fit
             .modes
             .iter()
-            .min_by(|a, b| (a.freq_hz - m.freq_hz).abs().total_cmp(&(b.freq_hz - m.freq_hz).abs()))
+            .min_by(|a, b| {
+                (a.freq_hz - m.freq_hz)
+                    .abs()
+                    .total_cmp(&(b.freq_hz - m.freq_hz).abs())
+            })
             .unwrap();
-        assert!((f.decay_s / (2.0 * m.decay_s) - 1.0).abs() < 0.05, "{f:?} vs {m:?}");
+        assert!(
+            (f.decay_s / (2.0 * m.decay_s) - 1.0).abs() < 0.05,
+            "{f:?} vs {m:?}"
+        );
     }
     // Transposition: object_size 0.5 → an octave up.
     let mut p = Params::default();
@@ -348,7 +361,8 @@ fn a_voice_plays_a_fitted_object_and_goes_back_to_the_recipe() {
     voice.reset();
     let fitted = render(&mut voice);
     assert!(fitted.iter().all(|x| x.is_finite()));
-    let rms = |x: &[f32]| (x.iter().map(|&v| f64::from(v).powi(2)).sum::<f64>() / x.len() as f64).sqrt();
+    let rms =
+        |x: &[f32]| (x.iter().map(|&v| f64::from(v).powi(2)).sum::<f64>() / x.len() as f64).sqrt();
     assert!(rms(&fitted) > 1e-4);
     assert_ne!(recipe, fitted);
     // The level law of the recipe: within 10 dB of the recipe's loudness.

@@ -188,7 +188,11 @@ impl FittedObject {
                 ));
             }
             if m.phase_rad.abs() > 1e3 {
-                return Err(format!("{} = {} is not a phase", field("phase_rad"), m.phase_rad));
+                return Err(format!(
+                    "{} = {} is not a phase",
+                    field("phase_rad"),
+                    m.phase_rad
+                ));
             }
         }
         for (i, b) in self.envelope.iter().enumerate() {
@@ -249,7 +253,9 @@ impl FittedObject {
             ("modal_range_hz[1]", self.modal_range_hz.1, 0.0, 1e7),
         ] {
             if !(v.is_finite() && (lo..=hi).contains(&v)) {
-                return Err(format!("\"{name}\" must be a number in {lo} … {hi}, got {v}"));
+                return Err(format!(
+                    "\"{name}\" must be a number in {lo} … {hi}, got {v}"
+                ));
             }
         }
         Ok(())
@@ -351,7 +357,12 @@ pub fn band_energies(x: &[f64], sample_rate_hz: f64) -> [f64; BANDS] {
         let w0 = TAU * f0 / fs;
         let alpha = w0.sin() / (2.0 * q);
         let a0 = 1.0 + alpha;
-        let (b0, b2, a1, a2) = (alpha / a0, -alpha / a0, -2.0 * w0.cos() / a0, (1.0 - alpha) / a0);
+        let (b0, b2, a1, a2) = (
+            alpha / a0,
+            -alpha / a0,
+            -2.0 * w0.cos() / a0,
+            (1.0 - alpha) / a0,
+        );
         let mut st = [[0.0f64; 4]; 2];
         let mut e = 0.0;
         for &v in &xt {
@@ -396,7 +407,10 @@ fn phase_energies(fit: &FittedObject) -> ([f64; BANDS], [f64; BANDS], [bool; BAN
         let (sw, cw) = (TAU * m.freq_hz / fs).sin_cos();
         let sgn = if -m.phase_rad.sin() < 0.0 { -1.0 } else { 1.0 };
         // z = a·e^{iφ}·pⁿ: Re z is the fitted mode, Im of a·pⁿ the played one.
-        let (mut zr, mut zi) = (m.amplitude * m.phase_rad.cos(), m.amplitude * m.phase_rad.sin());
+        let (mut zr, mut zi) = (
+            m.amplitude * m.phase_rad.cos(),
+            m.amplitude * m.phase_rad.sin(),
+        );
         let (mut ur, mut ui) = (m.amplitude, 0.0);
         for n in 0..len {
             xe[n] += zr;
@@ -483,7 +497,9 @@ impl LoadedObject {
                 continue;
             }
             let i = band_index(b.centre_hz);
-            let tau = b.decay_s.clamp(crate::material::DECAY_MIN_S, crate::material::DECAY_MAX_S);
+            let tau = b
+                .decay_s
+                .clamp(crate::material::DECAY_MIN_S, crate::material::DECAY_MAX_S);
             let e = 10f64.powf(b.level_db.min(0.0) / 10.0) * e_rec / held(tau);
             acc[i].0 += e;
             acc[i].1 += e * tau;
@@ -556,7 +572,8 @@ impl LoadedObject {
         }; BANDS];
         for (i, &(e, et)) in acc.iter().enumerate() {
             if e > 0.0 {
-                let tau = (et / e).clamp(crate::material::DECAY_MIN_S, crate::material::DECAY_MAX_S);
+                let tau =
+                    (et / e).clamp(crate::material::DECAY_MIN_S, crate::material::DECAY_MAX_S);
                 bands[i] = LoadedBand {
                     amplitude: (e / (BAND_MODES as f64 * tau)).sqrt(),
                     decay_s: tau,
