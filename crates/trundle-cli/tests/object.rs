@@ -310,6 +310,7 @@ fn third_octaves(x: &[f64], fs: f64) -> Vec<f64> {
 
 fn third_octave_distance(a: &[f64], b: &[f64], fs: f64) -> f64 {
     let (sa, sb) = (third_octaves(a, fs), third_octaves(b, fs));
+    // OBJECT_BANDS=1 prints the bands (recording, played, difference) for a diagnosis.
     if std::env::var("OBJECT_BANDS").is_ok() {
         for (i, (x, y)) in sa.iter().zip(&sb).enumerate() {
             println!(
