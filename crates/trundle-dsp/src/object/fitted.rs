@@ -12,13 +12,20 @@
 //!   phase: the fitted phase φₖ is reduced to the sign of the gain, sₖ = sign(−sin φₖ)
 //!   (the sine component of the fitted cosine), and the amplitude aₖ is kept. Energy and
 //!   spectrum are kept; the waveform of the first milliseconds is not.
-//! * **The band part.** Each third-octave band of the envelope (level Lᵦ relative to the
-//!   recording's energy, decay τᵦ) is played by [`BAND_MODES`] modes spread evenly (in log
-//!   frequency) through the band, each with the band's decay and a third of its energy:
-//!   a short-decay mode is a band of noise once the force is noise, and an impulse gives
-//!   the band's decaying burst. The recording's energy is estimated from the modes' and
-//!   the envelope's shares (E = Σaₖ²τₖ·(1 − e^{−2D/τₖ}) / (1 − Σ10^{Lᵦ/10})), so modes and
-//!   band part keep the recording's balance.
+//! * **The band part.** Each third-octave band is played by [`BAND_MODES`] modes spread
+//!   evenly (in log frequency) through the band, ringing at the residual envelope's decay
+//!   (or the band's own time 1/(π·bandwidth) where the envelope has none): a short-decay
+//!   mode is a band of noise once the force is noise, and an impulse gives the band's
+//!   decaying burst. Their energy is what the played modes (sine phase) miss of the
+//!   recording's own third-octave spectrum ([`FittedObject::spectrum`], compared over
+//!   [`SPECTRUM_SPAN_S`] by one measure, [`band_energies`]), measured once in
+//!   [`LoadedObject::new`]. Files without a spectrum fall back to the envelope (its level
+//!   relative to the recording's energy, estimated as E = Σaₖ²τₖ·(1 − e^{−2D/τₖ}) /
+//!   (1 − Σ10^{Lᵦ/10})) plus what the sine phase loses of the modes' own energy. Where the
+//!   played modes exceed the recording (a strong short mode's flat low-frequency skirt in
+//!   sine phase) nothing is taken away, except that short modes in a band where they
+//!   overshoot are scaled down. Slowly decaying bands make narrow, tonal band modes: the
+//!   third-octave energy is right, the fine spectrum between partials is not.
 //! * **Quality.** [`crate::object::Quality::max_modes`] caps the explicit fitted modes
 //!   (16 / 64 / 256 / 256 / all), loudest (aₖ²τₖ) first; the energy of the others is added
 //!   to the band part of their third-octave band (at the energy-weighted decay), so a lower
