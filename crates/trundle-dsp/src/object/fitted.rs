@@ -317,11 +317,8 @@ pub struct LoadedObject {
 }
 
 /// Modes shorter than this (s) get the correction for the energy their phase gains
-/// (below), and lend their decay to the energy it loses.
+/// (see `phase_energies`).
 pub const SHORT_MODE_S: f64 = 0.05;
-
-/// The span [`phase_energies`] synthesizes at most (s).
-pub const PHASE_SPAN_S: f64 = 0.5;
 
 /// The span (samples) [`band_energies`] compares over for a fit.
 pub fn spectrum_span(fit_duration_s: f64, sample_rate_hz: f64) -> usize {
@@ -337,7 +334,7 @@ pub fn spectrum_span(fit_duration_s: f64, sample_rate_hz: f64) -> usize {
 /// faded out (half Hann: a decay cut mid-ring would leak differently for every phase at the
 /// cut), through two cascaded RBJ band-pass biquads (Q of a third-octave) per band; bands at
 /// or above 0.45·f_s are 0. The one measure of [`FittedObject::spectrum`] and of the played
-/// modes ([`phase_energies`]).
+/// modes (`phase_energies`).
 pub fn band_energies(x: &[f64], sample_rate_hz: f64) -> [f64; BANDS] {
     use core::f64::consts::{PI, TAU};
     let fs = sample_rate_hz;
