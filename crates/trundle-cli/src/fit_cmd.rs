@@ -16,13 +16,15 @@ use serde_json::json;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use trundle_dsp::fit::{fit_strike, json::to_json, resynthesize, FittedObject};
+use trundle_dsp::object::fitted::{impulse_response, LoadedObject, ObjectFile};
 
 /// Arguments of `trundle fit-object`.
 #[derive(clap::Args, Debug)]
 #[command(after_help = "\
 Examples:
   trundle fit-object knock.wav -o wood.object.json
-  trundle fit-object cowbell.flac -o cowbell.object.json --json")]
+  trundle fit-object cowbell.flac -o cowbell.object.json --json
+  trundle fit-object agogo.wav -o agogo.object.json --plot agogo.png")]
 pub struct FitObjectArgs {
     /// One recorded strike (WAV, FLAC or OGG/Vorbis; mono or stereo; any sample rate).
     pub file: PathBuf,
@@ -35,6 +37,10 @@ pub struct FitObjectArgs {
     /// Print the summary as JSON.
     #[arg(long)]
     pub json: bool,
+    /// Also draw the recording and the fitted object's impulse response (what
+    /// `render --object FILE --impulse` plays) as spectrograms side by side (PNG).
+    #[arg(long, value_name = "FILE.png")]
+    pub plot: Option<PathBuf>,
 }
 
 /// Decode and fit a recording; errors name the file.
@@ -67,6 +73,9 @@ pub fn write_text(dest: &Path, text: &str, force: bool) -> Result<(), CliError> 
 /// Run `fit-object`; returns the summary.
 pub fn run(args: &FitObjectArgs) -> Result<String, CliError> {
     check_destination(&args.output, "--output", args.force)?;
+    if let Some(p) = &args.plot {
+        check_destination(p, "--plot", args.force)?;
+    }
     let (fit, samples, channels) = fit_file(&args.file)?;
     let source = args
         .file
@@ -82,6 +91,39 @@ pub fn run(args: &FitObjectArgs) -> Result<String, CliError> {
     let b = (a + (fit.duration_s * fs).round() as usize).min(samples.len());
     let model = resynthesize(&fit.modes, fs, b - a);
     let lsd = trundle_dsp::fit::log_spectral_distance_db(&samples[a..b], &model, fs);
+    // What the voice plays: the loaded object struck by a unit impulse (sine-phase modes
+    // and the band part), against the recording's decay.
+    let loaded = LoadedObject::new(ObjectFile {
+        object: fit.clone(),
+        source: source.clone(),
+    })
+    .map_err(|e| input(format!("{}: the fit is not playable: {e}", quote(&source))))?;
+    let (l, r) = impulse_response(
+        &trundle_dsp::Params::default(),
+        Some(std::sync::Arc::new(loaded)),
+        fs,
+        b - a,
+        true,
+    );
+    let played: Vec<f64> = l
+        .iter()
+        .zip(&r)
+        .map(|(&x, &y)| 0.5 * f64::from(x + y))
+        .collect();
+    let lsd_played = trundle_dsp::fit::log_spectral_distance_db(&samples[a..b], &played, fs);
+    if let Some(p) = &args.plot {
+        crate::fit_plot::plot(
+            &samples[a..b],
+            &played,
+            fs,
+            p,
+            &format!("{source}: recording and fitted object (impulse response)"),
+            [
+                "recording (from the strike's peak)",
+                "render --object … --impulse",
+            ],
+        )?;
+    }
     if args.json {
         let s = json!({
             "output": args.output.display().to_string(),
@@ -90,6 +132,7 @@ pub fn run(args: &FitObjectArgs) -> Result<String, CliError> {
             "modes": fit.modes.len(),
             "residual_db": fit.residual_db,
             "log_spectral_distance_db": lsd,
+            "impulse_log_spectral_distance_db": lsd_played,
             "onset_s": fit.onset_s,
             "duration_s": fit.duration_s,
             "channels": channels,
@@ -98,7 +141,8 @@ pub fn run(args: &FitObjectArgs) -> Result<String, CliError> {
     }
     let mut out = format!(
         "{}: {} modes ({:.0}–{:.0} Hz) over {:.3} s from {:.3} s at {} Hz{}\n\
-         the modes explain the recording to {:.1} dB (residual energy), log-spectral distance {:.1} dB\n",
+         the modes explain the recording to {:.1} dB (residual energy), log-spectral distance {:.1} dB\n\
+         as played (render --object … --impulse: sine-phase modes and the band part): log-spectral distance {:.1} dB\n",
         args.output.display(),
         fit.modes.len(),
         fit.modal_range_hz.0,
@@ -112,7 +156,8 @@ pub fn run(args: &FitObjectArgs) -> Result<String, CliError> {
             String::new()
         },
         fit.residual_db,
-        lsd
+        lsd,
+        lsd_played
     );
     let mut loud: Vec<_> = fit.modes.iter().collect();
     loud.sort_by(|a, b| {

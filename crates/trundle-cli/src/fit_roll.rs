@@ -35,7 +35,8 @@ pub struct FitRollArgs {
     /// The preset file to write (JSON).
     #[arg(short, long)]
     pub output: PathBuf,
-    /// An object file (`fit-object`) to inverse-filter the recording by.
+    /// An object file (`fit-object`) to inverse-filter the recording by; the written preset
+    /// holds it (its `"object"` entry), so it plays the roll on that object.
     #[arg(long)]
     pub object: Option<PathBuf>,
     /// The file is already a force (a `render --force-only` output, a contact sensor).
@@ -73,6 +74,8 @@ pub fn run(args: &FitRollArgs) -> Result<String, CliError> {
             "{shown}: sample rate {fs} Hz is outside 8000 … 384000 Hz"
         )));
     }
+    // The object the roll was inverse-filtered by plays in the written preset.
+    let mut embedded: Option<trundle_dsp::object::fitted::ObjectFile> = None;
     let (force, how) = if args.is_force {
         (
             rec.samples.clone(),
@@ -84,7 +87,11 @@ pub fn run(args: &FitRollArgs) -> Result<String, CliError> {
             .map_err(|e| input(format!("cannot read {oshown}: {e}")))?;
         let v: serde_json::Value = serde_json::from_str(&text)
             .map_err(|e| input(format!("{oshown} is not JSON ({e})")))?;
-        let (o, _) = from_json(&v).map_err(|e| input(format!("{oshown}: {e}")))?;
+        let (o, osource) = from_json(&v).map_err(|e| input(format!("{oshown}: {e}")))?;
+        embedded = Some(trundle_dsp::object::fitted::ObjectFile {
+            object: o.clone(),
+            source: osource,
+        });
         let longest = o.modes.iter().fold(0.0f64, |a, m| a.max(m.decay_s));
         let h = resynthesize(&o.modes, fs, ((5.0 * longest).min(4.0) * fs) as usize + 1);
         (
@@ -138,7 +145,7 @@ pub fn run(args: &FitRollArgs) -> Result<String, CliError> {
         params: p,
         automation: Vec::new(),
         balls: Vec::new(),
-        object: None,
+        object: embedded,
     };
     // Resynthesis: the preset's force, as long as the recording, analysed the same way.
     let seconds = force.len() as f64 / fs;

@@ -4,7 +4,7 @@
 //! trundle render -o out.wav [--preset NAME|PATH] [--set ID=VALUE]… [--seconds S]
 //!                [--sample-rate HZ] [--seed N] [--force-only] [--impacts FILE.csv]
 //!                [--force] [--format pcm24|pcm16|f32] [--channels 1|2]
-//!                [--normalize-db X | --no-normalize]
+//!                [--normalize-db X | --no-normalize] [--object F.object.json [--impulse]]
 //! trundle soak [--minutes 60] [--sample-rate 384000] [--preset P]   hours at the extremes
 //! trundle presets [--json]     the built-in scenes
 //! trundle params [--json]      every parameter ID, unit, range, default
@@ -15,7 +15,7 @@
 //! trundle calibrate -o preset.json [physical settings]    a signal preset imitating them
 //! trundle tradeoff [--json] [--plot out.png] [--seconds S]  speed vs accuracy, measured
 //! trundle bench [--json] [--quick]    what the engine costs on this machine
-//! trundle fit-object KNOCK.wav -o wood.object.json [--json]   an object from a recorded strike
+//! trundle fit-object KNOCK.wav -o wood.object.json [--json] [--plot F.png]   an object from a recorded strike
 //! trundle fit-roll ROLL.wav [--object F | --is-force] -o roll.json [--json]   a preset from a roll
 //! trundle spectrum A.wav [B.wav…] [--labels a,b] [--plot out.png] [--json]   third-octave spectra
 //! ```
@@ -32,6 +32,7 @@ mod calibrate;
 mod decode;
 mod error;
 mod fit_cmd;
+mod fit_plot;
 mod fit_roll;
 mod level;
 mod list;

@@ -392,6 +392,7 @@ fn a_roll_on_a_known_object_is_fitted_through_its_inverse() {
         duration_s: 1.0,
         residual_db: -100.0,
         peak: 1.0,
+        spectrum: vec![],
     };
     let object_path = d.join("default.object.json");
     fs::write(
@@ -425,6 +426,20 @@ fn a_roll_on_a_known_object_is_fitted_through_its_inverse() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let r: Value = serde_json::from_slice(&o.stdout).unwrap();
     println!("through the object's inverse: {r}");
+    // The preset holds the object it was inverse-filtered by, and plays it.
+    let preset: Value = serde_json::from_str(&fs::read_to_string(&out).unwrap()).unwrap();
+    assert_eq!(preset["object"]["trundle_object"], 1, "{preset}");
+    let played = d.join("played.wav");
+    let o = run(&[
+        "render",
+        "--preset",
+        out.to_str().unwrap(),
+        "--seconds",
+        "1",
+        "-o",
+        played.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let am_set = 3.0 * 0.5 / 0.4;
     assert!(
         (r["am_rate_hz"].as_f64().unwrap() / am_set - 1.0).abs() < 0.02,

@@ -49,6 +49,7 @@ mod tests {
             duration_s: 0.8,
             residual_db: -23.0,
             peak: 0.7,
+            spectrum: vec![],
         };
         let v = to_json(&fit, "knock.wav");
         let text = serde_json::to_string(&v).unwrap();

@@ -32,7 +32,7 @@ use nalgebra::Complex;
 
 pub use envelope::{log_spectral_distance_db, third_octave_envelope, EnvelopeBand};
 
-pub use crate::object::fitted::{FitMode, FittedObject};
+pub use crate::object::fitted::{FitMode, FittedObject, SpectrumBand};
 
 /// Why a recording is not one decaying strike.
 #[derive(Clone, Debug, PartialEq)]
@@ -297,6 +297,18 @@ pub fn fit_strike(x: &[f64], sample_rate_hz: f64) -> Result<FittedObject, FitErr
     let residual: Vec<f64> = sig.iter().zip(&model).map(|(a, b)| a - b).collect();
     let residual_db = residual_db(sig, &model);
     let envelope = third_octave_envelope(&residual, sig, fs);
+    // The recording's own spectrum, by the measure the player compares the played modes
+    // with (`object::fitted::band_energies`).
+    let span = crate::object::fitted::spectrum_span(sig.len() as f64 / fs, fs).min(sig.len());
+    let spectrum = crate::object::fitted::band_energies(&sig[..span], fs)
+        .iter()
+        .enumerate()
+        .filter(|(i, &e)| e > 0.0 && crate::object::fitted::band_centre_hz(*i) < 0.45 * fs)
+        .map(|(i, &e)| SpectrumBand {
+            centre_hz: crate::object::fitted::band_centre_hz(i),
+            level_db: (10.0 * e.log10()).max(-400.0),
+        })
+        .collect();
     Ok(FittedObject {
         sample_rate_hz: fs,
         modes,
@@ -306,6 +318,7 @@ pub fn fit_strike(x: &[f64], sample_rate_hz: f64) -> Result<FittedObject, FitErr
         duration_s: sig.len() as f64 / fs,
         residual_db,
         peak,
+        spectrum,
     })
 }
 

@@ -12,13 +12,20 @@
 //!   phase: the fitted phase φₖ is reduced to the sign of the gain, sₖ = sign(−sin φₖ)
 //!   (the sine component of the fitted cosine), and the amplitude aₖ is kept. Energy and
 //!   spectrum are kept; the waveform of the first milliseconds is not.
-//! * **The band part.** Each third-octave band of the envelope (level Lᵦ relative to the
-//!   recording's energy, decay τᵦ) is played by [`BAND_MODES`] modes spread evenly (in log
-//!   frequency) through the band, each with the band's decay and a third of its energy:
-//!   a short-decay mode is a band of noise once the force is noise, and an impulse gives
-//!   the band's decaying burst. The recording's energy is estimated from the modes' and
-//!   the envelope's shares (E = Σaₖ²τₖ·(1 − e^{−2D/τₖ}) / (1 − Σ10^{Lᵦ/10})), so modes and
-//!   band part keep the recording's balance.
+//! * **The band part.** Each third-octave band is played by [`BAND_MODES`] modes spread
+//!   evenly (in log frequency) through the band, ringing at the residual envelope's decay
+//!   (or the band's own time 1/(π·bandwidth) where the envelope has none): a short-decay
+//!   mode is a band of noise once the force is noise, and an impulse gives the band's
+//!   decaying burst. Their energy is what the played modes (sine phase) miss of the
+//!   recording's own third-octave spectrum ([`FittedObject::spectrum`], compared over
+//!   [`SPECTRUM_SPAN_S`] by one measure, [`band_energies`]), measured once in
+//!   [`LoadedObject::new`]. Files without a spectrum fall back to the envelope (its level
+//!   relative to the recording's energy, estimated as E = Σaₖ²τₖ·(1 − e^{−2D/τₖ}) /
+//!   (1 − Σ10^{Lᵦ/10})) plus what the sine phase loses of the modes' own energy. Where the
+//!   played modes exceed the recording (a strong short mode's flat low-frequency skirt in
+//!   sine phase) nothing is taken away, except that short modes in a band where they
+//!   overshoot are scaled down. Slowly decaying bands make narrow, tonal band modes: the
+//!   third-octave energy is right, the fine spectrum between partials is not.
 //! * **Quality.** [`crate::object::Quality::max_modes`] caps the explicit fitted modes
 //!   (16 / 64 / 256 / 256 / all), loudest (aₖ²τₖ) first; the energy of the others is added
 //!   to the band part of their third-octave band (at the energy-weighted decay), so a lower
@@ -84,7 +91,25 @@ pub struct FittedObject {
     pub residual_db: f64,
     /// Peak |x| of the recording (full scale = 1).
     pub peak: f64,
+    /// The recording's own third-octave spectrum over the first [`SPECTRUM_SPAN_S`] of the
+    /// fitted decay ([`band_energies`]); empty in files written before it existed. The band
+    /// part fills what the played modes miss of it.
+    pub spectrum: Vec<SpectrumBand>,
 }
+
+/// One band of a recording's spectrum ([`FittedObject::spectrum`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpectrumBand {
+    /// Third-octave centre frequency (Hz).
+    pub centre_hz: f64,
+    /// The band's energy in dB re the modes' measure: 10·log10(4·∫x²dt) over the span, so a
+    /// lone mode a·e^{−t/τ}·cos(…) that has rung out inside it gives 10·log10(a²τ).
+    pub level_db: f64,
+}
+
+/// The span of the recording [`FittedObject::spectrum`] and the played modes are compared
+/// over (s, from the start of the free decay; less when the decay is shorter).
+pub const SPECTRUM_SPAN_S: f64 = 0.5;
 
 /// The object file version this build writes and reads.
 pub const OBJECT_VERSION: u64 = 1;
@@ -211,6 +236,21 @@ impl FittedObject {
                 ));
             }
         }
+        for (i, b) in self.spectrum.iter().enumerate() {
+            if !(b.centre_hz.is_finite() && b.centre_hz > 0.0 && b.centre_hz < 0.5 * fs) {
+                return Err(format!(
+                    "spectrum[{i}].centre_hz = {} Hz is outside (0, {} Hz)",
+                    b.centre_hz,
+                    0.5 * fs
+                ));
+            }
+            if !(b.level_db.is_finite() && (-400.0..=100.0).contains(&b.level_db)) {
+                return Err(format!(
+                    "spectrum[{i}].level_db = {} is outside −400 … 100 dB",
+                    b.level_db
+                ));
+            }
+        }
         for (name, v, lo, hi) in [
             ("duration_s", self.duration_s, 0.0, 1e6),
             ("residual_db", self.residual_db, -400.0, 100.0),
@@ -277,41 +317,96 @@ pub struct LoadedObject {
 }
 
 /// Modes shorter than this (s) get the correction for the energy their phase gains
-/// (below), and lend their decay to the energy it loses.
+/// (see `phase_energies`).
 pub const SHORT_MODE_S: f64 = 0.05;
 
-/// The span [`phase_energies`] synthesizes at most (s).
-pub const PHASE_SPAN_S: f64 = 0.5;
+/// The span (samples) [`band_energies`] compares over for a fit.
+pub fn spectrum_span(fit_duration_s: f64, sample_rate_hz: f64) -> usize {
+    let span = if fit_duration_s > 0.0 {
+        fit_duration_s.min(SPECTRUM_SPAN_S)
+    } else {
+        SPECTRUM_SPAN_S
+    };
+    (span * sample_rate_hz).ceil() as usize
+}
 
-/// Per third-octave band, the energy (a²τ units: 4 × ∫y²dt) of the modes with their fitted
-/// phases, and as the bank plays them (sine phase, signed gain): both sums synthesized at
-/// the recording's rate over the fitted span (at most [`PHASE_SPAN_S`], its last 30 %
-/// faded out identically) and measured through third-octave band-pass filters (two
-/// cascaded RBJ band-pass biquads per band). What differs is mostly the onset: a mode that
+/// Energy per third-octave band ([`BANDS`], 4·∫y²dt: the a²τ measure) of `x`, its last 30 %
+/// faded out (half Hann: a decay cut mid-ring would leak differently for every phase at the
+/// cut), through two cascaded RBJ band-pass biquads (Q of a third-octave) per band; bands at
+/// or above 0.45·f_s are 0. The one measure of [`FittedObject::spectrum`] and of the played
+/// modes (`phase_energies`).
+pub fn band_energies(x: &[f64], sample_rate_hz: f64) -> [f64; BANDS] {
+    use core::f64::consts::{PI, TAU};
+    let fs = sample_rate_hz;
+    let len = x.len();
+    let fade = len * 7 / 10;
+    let xt: Vec<f64> = x
+        .iter()
+        .enumerate()
+        .map(|(n, &v)| {
+            if n < fade {
+                v
+            } else {
+                v * 0.5 * (1.0 + (PI * (n - fade) as f64 / (len - fade) as f64).cos())
+            }
+        })
+        .collect();
+    let mut out = [0.0; BANDS];
+    let q = 1.0 / (2f64.powf(1.0 / 6.0) - 2f64.powf(-1.0 / 6.0));
+    for (i, e_out) in out.iter_mut().enumerate() {
+        let f0 = band_centre_hz(i);
+        if f0 >= 0.45 * fs {
+            break;
+        }
+        let w0 = TAU * f0 / fs;
+        let alpha = w0.sin() / (2.0 * q);
+        let a0 = 1.0 + alpha;
+        let (b0, b2, a1, a2) = (
+            alpha / a0,
+            -alpha / a0,
+            -2.0 * w0.cos() / a0,
+            (1.0 - alpha) / a0,
+        );
+        let mut st = [[0.0f64; 4]; 2];
+        let mut e = 0.0;
+        for &v in &xt {
+            let mut y = v;
+            for s in st.iter_mut() {
+                let out = b0 * y + b2 * s[1] - a1 * s[2] - a2 * s[3];
+                s[1] = s[0];
+                s[0] = y;
+                s[3] = s[2];
+                s[2] = out;
+                y = out;
+            }
+            e += y * y;
+        }
+        *e_out = 4.0 * e / fs;
+    }
+    out
+}
+
+/// Per third-octave band ([`band_energies`]), the energy of the modes with their fitted
+/// phases, and as the bank plays them (sine phase, signed gain), both synthesized at the
+/// recording's rate over [`spectrum_span`]. What differs is mostly the onset: a mode that
 /// starts at aₖ·cos φₖ (a step: the strike's click, a skirt falling as 1/f) against one
-/// that starts at zero (1/f²), and overlapping short modes that add up differently.
+/// that starts at zero (1/f²), and overlapping short modes that add up differently. The
+/// third array marks the bands holding a mode shorter than [`SHORT_MODE_S`].
 /// Offline, in [`LoadedObject::new`].
 fn phase_energies(fit: &FittedObject) -> ([f64; BANDS], [f64; BANDS], [bool; BANDS]) {
-    use core::f64::consts::{PI, TAU};
-    let mut exact = [0.0; BANDS];
-    let mut sine = [0.0; BANDS];
+    use core::f64::consts::TAU;
     let mut has = [false; BANDS];
     let fs = fit.sample_rate_hz;
-    let short: Vec<&FitMode> = fit.modes.iter().filter(|m| m.amplitude > 0.0).collect();
-    if short.is_empty() {
-        return (exact, sine, has);
+    let modes: Vec<&FitMode> = fit.modes.iter().filter(|m| m.amplitude > 0.0).collect();
+    if modes.is_empty() {
+        return ([0.0; BANDS], [0.0; BANDS], has);
     }
-    for m in short.iter().filter(|m| m.decay_s < SHORT_MODE_S) {
+    for m in modes.iter().filter(|m| m.decay_s < SHORT_MODE_S) {
         has[band_index(m.freq_hz)] = true;
     }
-    let span = if fit.duration_s > 0.0 {
-        fit.duration_s.min(PHASE_SPAN_S)
-    } else {
-        PHASE_SPAN_S
-    };
-    let len = (span * fs).ceil() as usize + 1;
+    let len = spectrum_span(fit.duration_s, fs);
     let (mut xe, mut xs) = (vec![0.0f64; len], vec![0.0f64; len]);
-    for m in &short {
+    for m in &modes {
         let r = (-1.0 / (m.decay_s * fs)).exp();
         let (sw, cw) = (TAU * m.freq_hz / fs).sin_cos();
         let sgn = if -m.phase_rad.sin() < 0.0 { -1.0 } else { 1.0 };
@@ -335,48 +430,7 @@ fn phase_energies(fit: &FittedObject) -> ([f64; BANDS], [f64; BANDS], [bool; BAN
             }
         }
     }
-    let fade = len * 7 / 10;
-    for n in fade..len {
-        let w = 0.5 * (1.0 + (PI * (n - fade) as f64 / (len - fade) as f64).cos());
-        xe[n] *= w;
-        xs[n] *= w;
-    }
-    let q = 1.0 / (2f64.powf(1.0 / 6.0) - 2f64.powf(-1.0 / 6.0));
-    for i in 0..BANDS {
-        let f0 = band_centre_hz(i);
-        if f0 >= 0.45 * fs {
-            break;
-        }
-        let w0 = TAU * f0 / fs;
-        let alpha = w0.sin() / (2.0 * q);
-        let a0 = 1.0 + alpha;
-        let (b0, b2, a1, a2) = (
-            alpha / a0,
-            -alpha / a0,
-            -2.0 * w0.cos() / a0,
-            (1.0 - alpha) / a0,
-        );
-        let energy = |x: &[f64]| {
-            let mut st = [[0.0f64; 4]; 2];
-            let mut e = 0.0;
-            for &v in x {
-                let mut y = v;
-                for s in st.iter_mut() {
-                    let out = b0 * y + b2 * s[1] - a1 * s[2] - a2 * s[3];
-                    s[1] = s[0];
-                    s[0] = y;
-                    s[3] = s[2];
-                    s[2] = out;
-                    y = out;
-                }
-                e += y * y;
-            }
-            4.0 * e / fs
-        };
-        exact[i] = energy(&xe);
-        sine[i] = energy(&xs);
-    }
-    (exact, sine, has)
+    (band_energies(&xe, fs), band_energies(&xs, fs), has)
 }
 
 /// SplitMix64: the deterministic side units and signs.
@@ -460,20 +514,56 @@ impl LoadedObject {
         // the band part, ringing for the band's own time; energy gained (the sine phase's
         // slower skirts, short modes that cancelled) scales the band's short modes down.
         let (exact, played, has_short) = phase_energies(fit);
+        // With the recording's own spectrum, the band part fills what the played modes miss
+        // of it, band by band (over the same span, by the same measure), ringing at the
+        // envelope's decay (or the band's own time where the envelope has none).
+        let target: Option<[f64; BANDS]> = (!fit.spectrum.is_empty()).then(|| {
+            let mut t = [0.0; BANDS];
+            for b in &fit.spectrum {
+                t[band_index(b.centre_hz)] = 10f64.powf(b.level_db / 10.0);
+            }
+            t
+        });
+        let span_s = spectrum_span(fit.duration_s, fit.sample_rate_hz) as f64 / fit.sample_rate_hz;
+        // The share of a decay's energy inside the compared span (its last 30 % faded: about
+        // the first 85 %).
+        let inside = |tau: f64| 1.0 - (-2.0 * 0.85 * span_s / tau).exp();
+        let (exact, mut acc) = match target {
+            None => (exact, acc),
+            Some(t) => {
+                let mut fill = [(0.0f64, 0.0f64); BANDS];
+                for i in 0..BANDS {
+                    let tau = if acc[i].0 > 0.0 {
+                        acc[i].1 / acc[i].0
+                    } else {
+                        let bw = band_centre_hz(i) * (2f64.powf(1.0 / 6.0) - 2f64.powf(-1.0 / 6.0));
+                        1.0 / (core::f64::consts::PI * bw)
+                    };
+                    let miss = t[i] - played[i];
+                    if miss > 0.0 {
+                        let e = miss / inside(tau);
+                        fill[i] = (e, e * tau);
+                    }
+                }
+                // The target replaces the modes-with-phases estimate and the envelope.
+                (t, fill)
+            }
+        };
+        let phase_fill = target.is_none();
         let mut mode_scale = [1.0f64; BANDS];
         for i in 0..BANDS {
             let (ex, pl) = (exact[i], played[i]);
             if !has_short[i] && ex <= pl {
                 continue;
             }
-            if ex > pl {
+            if ex > pl && phase_fill {
                 // The click: it rings for the band's own time, 1/(π·bandwidth).
                 let bw = band_centre_hz(i) * (2f64.powf(1.0 / 6.0) - 2f64.powf(-1.0 / 6.0));
                 let tau = 1.0 / (core::f64::consts::PI * bw);
                 let e = ex - pl;
                 acc[i].0 += e;
                 acc[i].1 += e * tau;
-            } else if pl > 0.0 {
+            } else if ex < pl && pl > 0.0 {
                 mode_scale[i] = (ex / pl).max(0.01).sqrt();
             }
         }
@@ -657,6 +747,10 @@ mod file_json {
                 "level_db": b.level_db,
                 "decay_s": b.decay_s,
             })).collect::<Vec<_>>(),
+            "spectrum": fit.spectrum.iter().map(|b| json!({
+                "centre_hz": b.centre_hz,
+                "level_db": b.level_db,
+            })).collect::<Vec<_>>(),
         })
     }
 
@@ -731,6 +825,17 @@ mod file_json {
             }
             envelope.push(band);
         }
+        let mut spectrum = Vec::new();
+        if let Some(v) = v.get("spectrum") {
+            let arr = v.as_array().ok_or("\"spectrum\" must be a list")?;
+            for (i, b) in arr.iter().enumerate() {
+                let at = format!("spectrum band {i}: ");
+                spectrum.push(SpectrumBand {
+                    centre_hz: num(b, "centre_hz", &at)?,
+                    level_db: num(b, "level_db", &at)?,
+                });
+            }
+        }
         let range = list("modal_range_hz")?;
         let r = |i: usize| {
             range
@@ -753,6 +858,7 @@ mod file_json {
             duration_s: num(v, "duration_s", "")?,
             residual_db: num(v, "residual_db", "")?,
             peak: num(v, "peak", "")?,
+            spectrum,
         };
         fit.validate()?;
         Ok((fit, source))
