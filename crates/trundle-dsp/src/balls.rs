@@ -41,9 +41,7 @@
 //!
 //! A neutral gesture (p = 0, b = ½, t = 0, g = 1, q = 0, offsets 0) leaves the ball exactly as
 //! it would be without expression. Loudness changes glide linearly over one chunk (no zipper
-//! noise); speed, roughness and size go through the source's own smoothing. A bend on the
-//! pool as a whole ([`BallPool::set_master_tuning`]: an MPE zone's master channel, or a plain
-//! keyboard's pitch wheel) adds to every ball's own tuning, present and future.
+//! noise); speed, roughness and size go through the source's own smoothing.
 //!
 //! ## Level law
 //! Balls rolling independently are uncorrelated, so their forces add in power: N balls
@@ -258,8 +256,6 @@ pub struct BallPool {
     /// Number of active balls (kept in step with the slots: the idle check reads it every
     /// chunk without touching them).
     count: usize,
-    /// A bend applying to every ball (semitones).
-    master_tuning_st: f64,
     /// Balls that ended (came to rest, were stolen or reset) since the last
     /// [`drain_ended`](Self::drain_ended); at most one per slot between drains is kept.
     ended: [BallId; 2 * MAX_BALLS],
@@ -291,7 +287,6 @@ impl BallPool {
             base_seed: 0,
             buf: [0.0; CHUNK],
             count: 0,
-            master_tuning_st: 0.0,
             ended: [BallId::default(); 2 * MAX_BALLS],
             ended_count: 0,
         }
@@ -326,7 +321,6 @@ impl BallPool {
                 self.record_ended(self.balls[i].id);
             }
         }
-        self.master_tuning_st = 0.0;
         self.started = 0;
         self.base_seed = base_seed;
         self.count = 0;
@@ -385,7 +379,6 @@ impl BallPool {
             .wrapping_mul(0x9E37_79B9_7F4A_7C15)
             .wrapping_add(u64::from(note) << 32)
             .wrapping_add(self.started);
-        let master = self.master_tuning_st;
         let b = &mut self.balls[slot];
         b.id = BallId { key: note, ..id };
         b.gestures = Gestures::default();
@@ -397,7 +390,7 @@ impl BallPool {
         b.size = size_for_note(note);
         b.velocity = velocity_for_note(velocity);
         b.position = position_for_note(note);
-        let (sc, pc) = Self::controls(b, scene, space, master);
+        let (sc, pc) = Self::controls(b, scene, space);
         b.source.set_controls(sc);
         b.source.set_seed(seed);
         b.source.reset();
@@ -432,14 +425,6 @@ impl BallPool {
         }
     }
 
-    /// A bend (semitones) for every ball, on top of each ball's own tuning: an MPE zone's
-    /// master channel or a plain keyboard's pitch wheel. Non-finite values are ignored.
-    pub fn set_master_tuning(&mut self, semitones: f64) {
-        if semitones.is_finite() {
-            self.master_tuning_st = semitones.clamp(-128.0, 128.0);
-        }
-    }
-
     /// Stop every ball (they roll to a halt).
     pub fn all_notes_off(&mut self) {
         for b in &mut self.balls {
@@ -455,10 +440,9 @@ impl BallPool {
         b: &Ball,
         scene: SourceControls,
         space: SpaceControls,
-        master_tuning_st: f64,
     ) -> (SourceControls, SpaceControls) {
         let g = &b.gestures;
-        let tuning = g.tuning_st + master_tuning_st;
+        let tuning = g.tuning_st;
         let mut velocity = b.velocity;
         if tuning != 0.0 {
             velocity *= (tuning / 12.0).exp2();
@@ -489,7 +473,6 @@ impl BallPool {
     pub fn add_chunk(&mut self, force: &mut [f32], scene: SourceControls, space: SpaceControls) {
         let n = force.len().min(CHUNK);
         let slow_by = STOP_DECELERATION_M_S2 * n as f64 / self.fs;
-        let master = self.master_tuning_st;
         for b in self.balls.iter_mut().filter(|b| b.active) {
             if b.stopping {
                 // Rolling to rest (module docs): the speed falls linearly, then settles
@@ -501,7 +484,7 @@ impl BallPool {
                     b.velocity = 0.0;
                 }
             }
-            let (sc, pc) = Self::controls(b, scene, space, master);
+            let (sc, pc) = Self::controls(b, scene, space);
             b.source.set_controls(sc);
             b.space.set_controls(pc);
             let buf = &mut self.buf[..n];
@@ -605,12 +588,7 @@ mod tests {
 
     fn controls_of(pool: &BallPool) -> (SourceControls, SpaceControls) {
         let b = pool.balls.iter().find(|b| b.active).unwrap();
-        BallPool::controls(
-            b,
-            SourceControls::default(),
-            SpaceControls::default(),
-            pool.master_tuning_st,
-        )
+        BallPool::controls(b, SourceControls::default(), SpaceControls::default())
     }
 
     #[test]
@@ -642,12 +620,9 @@ mod tests {
             pool.express(me, e);
         }
         assert_eq!(controls_of(&pool), (sc0, pc0));
-        // An octave up: twice as fast (0.3 → 0.6); with the master's two semitones more.
+        // An octave up: twice as fast (0.3 → 0.6).
         pool.express(me, Expression::TuningSemitones(12.0));
         assert!((controls_of(&pool).0.velocity - 0.6).abs() < 1e-12);
-        pool.set_master_tuning(-12.0);
-        assert!((controls_of(&pool).0.velocity - 0.3).abs() < 1e-12);
-        pool.set_master_tuning(0.0);
         pool.express(me, Expression::TuningSemitones(48.0));
         assert_eq!(controls_of(&pool).0.velocity, 1.0, "clamped to the range");
         pool.express(me, Expression::TuningSemitones(0.0));

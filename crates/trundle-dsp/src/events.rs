@@ -61,8 +61,6 @@ pub enum VoiceEvent {
         /// What changes ([`crate::balls`]: the table of laws).
         expression: Expression,
     },
-    /// A bend in semitones on every ball (an MPE zone's master channel, a keyboard's wheel).
-    MasterTuning(f64),
     /// New parameter targets (automation): the voice glides to them.
     Params(Params),
 }
@@ -85,7 +83,6 @@ impl Voice {
             VoiceEvent::BallOn { id, velocity } => self.ball_on(id, velocity),
             VoiceEvent::BallOff { target } => self.ball_off(target),
             VoiceEvent::Express { target, expression } => self.express(target, expression),
-            VoiceEvent::MasterTuning(t) => self.set_master_tuning(t),
             VoiceEvent::Params(ref p) => self.set_params(p),
         }
     }

@@ -341,11 +341,6 @@ impl Voice {
         self.balls.express(target, expression);
     }
 
-    /// A bend (semitones) on every extra ball, present and future: speed × 2^(t/12).
-    pub fn set_master_tuning(&mut self, semitones: f64) {
-        self.balls.set_master_tuning(semitones);
-    }
-
     /// Hand every extra ball that ended since the last call (rolled to rest, stolen, or
     /// stopped by a reset) to `f`: a host is told so it can free its note (CLAP note end).
     pub fn drain_ended_balls(&mut self, f: impl FnMut(BallId)) {

@@ -5,19 +5,18 @@
 //!
 //! | host gesture | ball | law |
 //! |---|---|---|
-//! | CLAP pressure, poly aftertouch, MPE channel pressure | contact load | force × (1 + p) |
-//! | CLAP brightness, MPE timbre (CC 74) | roughness | ρ_scene + (b − ½) |
-//! | CLAP tuning, MPE per-note pitch bend (±48 st) | speed | V · 2^(t/12) |
-//! | CLAP volume | loudness | force × g |
-//! | CLAP pan | where it rolls | x + q, towards a pickup |
+//! | CLAP/VST3 pressure, polyphonic aftertouch | contact load | force × (1 + p) |
+//! | CLAP/VST3 brightness (MPE timbre) | roughness | ρ_scene + (b − ½) |
+//! | CLAP/VST3 tuning (MPE per-note pitch bend) | speed | V · 2^(t/12) |
+//! | CLAP/VST3 volume | loudness | force × g |
+//! | CLAP/VST3 pan | where it rolls | x + q, towards a pickup |
 //! | CLAP poly modulation of `velocity`, `roughness`, `size` | that control | + the offset |
-//! | pitch bend on channel 1 (MPE lower zone's master, or a plain keyboard: ±2 st) | every ball | V · 2^(t/12) |
-//! | pressure or CC 74 on channel 1 | every ball | as above |
 //!
-//! **MPE** (lower zone): channel 1 is the master channel (its messages act on every ball),
-//! channels 2–16 carry one note each and their pressure, timbre and pitch bend act on that
-//! note's ball only; the per-note bend range is MPE's default ±48 semitones, the master's
-//! ±2. A plain keyboard plays on channel 1, so its wheel and aftertouch act on every ball.
+//! **MPE** reaches the balls as note expressions: hosts that translate MPE for a CLAP or VST3
+//! instrument (Bitwig Studio does for CLAP plugins) turn each note's channel pressure, CC 74 and
+//! pitch bend into that note's pressure, brightness and tuning expressions. Raw MPE channel
+//! messages are not read: that needs nice-plug's MIDI-CC input, whose 2 080 hidden VST3
+//! MIDI-mapping parameters made the plugin take 24 s to load in pedalboard (JUCE).
 //!
 //! **Poly modulation** (CLAP hosts that offer it): the host's offset is a normalized offset
 //! of the knob; it is turned into the control's own units at the knob's current position
@@ -51,27 +50,11 @@ pub fn poly_modulation_id(key: &str) -> Option<u32> {
     }
 }
 
-/// Bend range of an MPE note channel (semitones, MPE's default).
-pub const MPE_NOTE_BEND_ST: f64 = 48.0;
-/// Bend range of the master channel / a plain keyboard's wheel (semitones).
-pub const MASTER_BEND_ST: f64 = 2.0;
-/// MPE timbre controller.
-const CC_TIMBRE: u8 = 74;
-
 fn target(voice_id: VoiceID, channel: Channel, key: Key) -> BallTarget {
     BallTarget {
         voice_id: voice_id.id(),
         channel: channel.number(),
         key: key.number(),
-    }
-}
-
-/// Which balls a channel message reaches: channel 1 (index 0) is the master (every ball).
-fn channel_target(channel: u8) -> BallTarget {
-    if channel == 0 {
-        BallTarget::ALL
-    } else {
-        BallTarget::channel(channel)
     }
 }
 
@@ -174,29 +157,6 @@ pub fn voice_event<S>(ev: &NoteEvent<S>, params: &TrundleParams) -> Option<Voice
             target(voice_id, channel, key),
             Expression::Pan(f64::from(pan)),
         ),
-        NoteEvent::MidiChannelPressure {
-            channel, pressure, ..
-        } => express(
-            channel_target(channel),
-            Expression::Pressure(f64::from(pressure)),
-        ),
-        NoteEvent::MidiCC {
-            channel, cc, value, ..
-        } if cc == CC_TIMBRE => express(
-            channel_target(channel),
-            Expression::Brightness(f64::from(value)),
-        ),
-        NoteEvent::MidiPitchBend { channel, value, .. } => {
-            let bend = (f64::from(value) - 0.5) * 2.0;
-            if channel == 0 {
-                Some(VoiceEvent::MasterTuning(bend * MASTER_BEND_ST))
-            } else {
-                express(
-                    BallTarget::channel(channel),
-                    Expression::TuningSemitones(bend * MPE_NOTE_BEND_ST),
-                )
-            }
-        }
         NoteEvent::PolyModulation {
             voice_id,
             poly_modulation_id,
@@ -275,50 +235,6 @@ mod tests {
                     key: Some(62)
                 }
             })
-        );
-    }
-
-    #[test]
-    fn mpe_channels_reach_their_ball_and_the_master_reaches_all() {
-        let bend = |channel, value| {
-            ev(NoteEvent::MidiPitchBend {
-                timing: 0,
-                channel,
-                value,
-            })
-        };
-        // Full bend up on a note channel: +48 semitones on that channel's ball.
-        assert_eq!(
-            bend(4, 1.0),
-            Some(VoiceEvent::Express {
-                target: BallTarget::channel(4),
-                expression: Expression::TuningSemitones(48.0)
-            })
-        );
-        // On the master channel: ±2 semitones for every ball.
-        assert_eq!(bend(0, 0.0), Some(VoiceEvent::MasterTuning(-2.0)));
-        assert_eq!(bend(0, 0.5), Some(VoiceEvent::MasterTuning(0.0)));
-        assert_eq!(
-            ev(NoteEvent::MidiCC {
-                timing: 0,
-                channel: 0,
-                cc: 74,
-                value: 0.25
-            }),
-            Some(VoiceEvent::Express {
-                target: BallTarget::ALL,
-                expression: Expression::Brightness(0.25)
-            })
-        );
-        // Other controllers do nothing.
-        assert_eq!(
-            ev(NoteEvent::MidiCC {
-                timing: 0,
-                channel: 2,
-                cc: 1,
-                value: 0.25
-            }),
-            None
         );
     }
 

@@ -176,8 +176,10 @@ impl Plugin for Trundle {
         },
     ];
     const SAMPLE_ACCURATE_AUTOMATION: bool = true;
-    // MIDI CCs for MPE (channel pressure, pitch bend, CC 74 per channel: `expression`).
-    const MIDI_INPUT: MidiConfig = MidiConfig::MidiCCs;
+    // Notes, poly pressure and note expressions (`expression`). Not `MidiCCs`: it makes the
+    // VST3 expose 2 080 hidden MIDI-mapping parameters, and pedalboard (JUCE) then took 24 s
+    // to load the plugin instead of well under one.
+    const MIDI_INPUT: MidiConfig = MidiConfig::Basic;
 
     type SysExMessage = ();
     type BackgroundTask = ();
