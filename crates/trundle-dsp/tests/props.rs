@@ -15,6 +15,28 @@ use trundle_dsp::{Params, Voice};
 /// Output ceiling for any parameter set (gain ≤ +12 dB): see `tests/engine.rs`.
 const CEILING: f32 = 64.0;
 
+/// Ceiling of the raw force output (`output = force`): the object's ceiling for the papers'
+/// contact and a 0.4 ball, times what the contact and the size can add to a pulse's height.
+/// A hard contact makes pulses 1/c taller (c down to the stiffest ball on the stiffest
+/// object, docs/MODEL.md §2) and the smallest ball's force is G(0.1) = 2.83 times a 0.4
+/// ball's (docs/MODEL.md §3). The object output is unaffected (the bank smooths the short
+/// pulses); the force is written as it is. Found by this test: 15 balls, one of them S 0.1 at
+/// V 0.83 on steel-on-metal, at +8.8 dB, peaked at 82.9 in force output.
+fn force_ceiling() -> f32 {
+    use trundle_dsp::contact::{contact_scale_for, BallMaterial};
+    use trundle_dsp::params::ParamEnum;
+    let mut c_min = f64::INFINITY;
+    for &ball in BallMaterial::VARIANTS {
+        for i in 0..=20 {
+            for j in 0..=20 {
+                let (x, y) = (-1.0 + 0.1 * f64::from(i), -1.0 + 0.1 * f64::from(j));
+                c_min = c_min.min(contact_scale_for(ball, x, y));
+            }
+        }
+    }
+    (f64::from(CEILING) * trundle_dsp::lowpass::size_gain(0.1) / c_min) as f32
+}
+
 static CASES: AtomicUsize = AtomicUsize::new(0);
 
 /// Map fractions in [0, 1] onto a valid parameter set.
@@ -67,6 +89,8 @@ fn any_parameters_any_rate_any_block_size_stay_finite_and_bounded() {
         cases: CASES_PER_RUN,
         ..Config::default()
     });
+    let force_ceiling = force_ceiling();
+    println!("ceilings: object {CEILING}, raw force {force_ceiling:.0}");
     let result = runner.run(&strategy, |(start, jump, fs, block, jump_at, notes)| {
         let a = params_from(&start);
         let b = params_from(&jump);
@@ -93,7 +117,14 @@ fn any_parameters_any_rate_any_block_size_stay_finite_and_bounded() {
         }
         let peak = out.iter().fold(0f32, |m, x| m.max(x.abs()));
         prop_assert!(out.iter().all(|x| x.is_finite()), "non-finite output");
-        prop_assert!(peak < CEILING, "peak {} over the ceiling", peak);
+        // The force ceiling wherever the force was heard (before or after the jump; the
+        // output switch crossfades).
+        let ceiling = if a.force_only() || b.force_only() {
+            force_ceiling
+        } else {
+            CEILING
+        };
+        prop_assert!(peak < ceiling, "peak {} over the ceiling {}", peak, ceiling);
         CASES.fetch_add(1, Ordering::Relaxed);
         Ok(())
     });
