@@ -401,6 +401,14 @@ impl Source {
         self.log.drain(f)
     }
 
+    /// Record an impact made outside the series (a gesture's bounce, spin contact or seam,
+    /// [`crate::gesture`]) when the log is enabled. Real-time safe.
+    pub fn log_impact(&mut self, r: ImpactRecord) {
+        if self.log.enabled() {
+            self.log.record(r);
+        }
+    }
+
     /// True when a chunk would change nothing but time: the ball at rest, the low-pass
     /// quiet, no control gliding, no action table due. Then [`skip_chunk`](Self::skip_chunk)
     /// is exactly equivalent to [`process_chunk`](Self::process_chunk) (which would output

@@ -25,6 +25,7 @@
 use crate::balls::{BallId, BallPool, BallTarget, Expression};
 use crate::dcblock::DcBlock;
 use crate::engine_mix::EngineMix;
+use crate::gesture::{Gesture, GestureControls, PulseScale};
 use crate::object::{Object, ObjectControls};
 use crate::params::{ParamId, Params};
 use crate::physics::PhysicsEngine;
@@ -76,6 +77,8 @@ pub struct Voice {
     balls: BallPool,
     /// The level law's gain on the summed force ([`crate::balls::level_for_balls`]).
     ball_level: Smoother,
+    /// The gesture: drop, spin, seams, paths with gravity ([`crate::gesture`]).
+    gesture: Gesture,
     /// The last chunk's force and DC-blocked force were exactly zero (the DC blocker's
     /// state is then zero too): with a zero force it may be skipped.
     quiet: bool,
@@ -154,6 +157,7 @@ impl Voice {
             engines: EngineMix::new(fs, params),
             balls: BallPool::new(fs),
             ball_level: Smoother::new(1.0),
+            gesture: Gesture::new(fs, GestureControls::from_params(params), seed),
             quiet: false,
         };
         v.object.set_quality(params.quality());
@@ -212,6 +216,7 @@ impl Voice {
             d.set_sample_rate(self.fs);
         }
         self.engines.set_sample_rate(self.fs);
+        self.gesture.set_sample_rate(self.fs);
         self.reset();
     }
 
@@ -230,6 +235,7 @@ impl Voice {
             d.reset();
         }
         self.engines.reset();
+        self.gesture.reset(self.seed);
         self.gain.snap_to_target();
         self.force_mix.snap_to_target();
         self.started = false;
@@ -265,6 +271,35 @@ impl Voice {
             self.source.set_seed(seed);
         }
         self.engines.set_params(params, seed_changed);
+        self.gesture
+            .set_controls(GestureControls::from_params(params));
+    }
+
+    /// Start the gesture again now (a drop falls, a spin begins). Real-time safe.
+    pub fn restart_gesture(&mut self) {
+        self.gesture.restart();
+    }
+
+    /// The gesture stage, for inspection.
+    pub fn gesture(&self) -> &Gesture {
+        &self.gesture
+    }
+
+    /// Hand the gesture's schedule to the source and the position stage: the rolling speed
+    /// V × the gesture's factor, the bowl's radius. Does nothing when the gesture is
+    /// neutral (the voice is then exactly what it was without gestures).
+    fn apply_gesture(&mut self) {
+        if self.gesture.is_neutral() {
+            return;
+        }
+        let f = self.gesture.rolling_factor();
+        let mut sc = source_controls(&self.params);
+        sc.velocity = (sc.velocity * f).clamp(0.0, 1.0);
+        self.source.set_controls(sc);
+        let mut pc = space_controls(&self.params);
+        pc.velocity *= f;
+        self.space.set_controls(pc);
+        self.space.set_path_scale(self.gesture.path_scale());
     }
 
     /// Record impacts for [`drain_impacts`](Self::drain_impacts).
@@ -409,6 +444,7 @@ impl Voice {
     /// Snap the smoothers on the first call after a reset (a render starts at its targets).
     fn start(&mut self) {
         if !self.started {
+            self.apply_gesture();
             self.source.snap_controls();
             self.space.snap_controls();
             self.object.snap_controls();
@@ -422,11 +458,24 @@ impl Voice {
         }
     }
 
+    /// How the gesture's impacts become pulses: the source's contact and level in force.
+    fn pulse_scale(&self) -> PulseScale {
+        let ap = self.source.action();
+        let c = self.source.contact_scale();
+        PulseScale {
+            zeta_s: ap.zeta_s * c,
+            theta: ap.theta,
+            gain: ap.pulse_gain * ap.level_gain * crate::lowpass::size_gain(self.params.size()) / c,
+        }
+    }
+
     fn render_chunk(&mut self) {
         let fs = self.fs;
         let signal_only = self.engines.signal_only();
+        self.apply_gesture();
         if self.quiet
             && signal_only
+            && self.gesture.is_idle()
             && self.balls.active() == 0
             && self.source.is_idle()
             && self.space.is_idle()
@@ -440,11 +489,23 @@ impl Voice {
             // all zero from the last chunk: that is what `quiet` records).
             self.source.skip_chunk(CHUNK);
             self.engines.skip_chunk();
+            self.gesture.skip_chunk(CHUNK);
             self.sound.fill(0.0);
             self.side.fill(0.0);
             return;
         }
+        let v_before = self.source.velocity();
         self.engines.force_chunk(&mut self.source, &mut self.force);
+        if !self.gesture.is_neutral() {
+            // The gesture's impacts join the rolling force before the position stage.
+            let k = self.pulse_scale();
+            let speed = (v_before, self.source.velocity());
+            let source = &mut self.source;
+            self.gesture
+                .process(&mut self.force, k, speed, &mut |r| source.log_impact(r));
+        } else {
+            self.gesture.skip_chunk(CHUNK);
+        }
         self.space.process(&mut self.force);
         if self.balls.active() > 0 {
             // Extra balls roll on the same object: their forces add before it.
@@ -467,6 +528,7 @@ impl Voice {
             && silent_force
             && signal_only
             && self.source.at_rest()
+            && self.gesture.is_idle()
             && self.balls.active() == 0
             && self.object.is_silent()
         {
