@@ -31,14 +31,15 @@
 //! `roll` gesture, no joints and a constant-speed path the stage is neutral and the voice
 //! does not touch it: the samples are those of a voice without it, bit for bit.
 //!
-//! The gesture drives the signal engine's rolling speed; with the physics engine the bounce,
-//! spin and joint impacts are added to its force in the same way but its rolling speed is
-//! not scheduled (a Hunt–Crossley bounce is not built).
+//! The gesture schedules the rolling speed of either engine (the voice hands V × the
+//! gesture's factor to the signal source and to the physics ball). The bounces, spin
+//! contacts and seams are this stage's pulses in either engine: a Hunt–Crossley bounce (a
+//! ball with mass falling onto the contact) is not built.
 
 use crate::balls::{STOP_DECELERATION_M_S2, STOP_SOFT_SPEED};
 use crate::params::{ParamEnum, ParamId, Params};
 use crate::pulse::{duration_s, PulseEval, PulseShape, PulseTrain, T0_MAX_S};
-use crate::source::ImpactRecord;
+use crate::source::{ImpactLog, ImpactRecord};
 use crate::space::Trajectory;
 use crate::CHUNK;
 
@@ -64,6 +65,10 @@ pub const SPIN_GAIN: f64 = 0.35;
 pub const SPIN_JITTER: f64 = 0.25;
 /// Series-amplitude equivalent of a seam crossed at 1 m/s with depth 1.
 pub const JOINT_GAIN: f64 = 1.5;
+
+/// Capacity of the gesture's impact record (drained with the engine's, see
+/// [`crate::voice::Voice::drain_impacts`]).
+pub const GESTURE_LOG_CAPACITY: usize = 4096;
 
 /// The gesture of the scene.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -204,6 +209,7 @@ pub struct Gesture {
     ring_until: f64,
     rng: u64,
     seed: u64,
+    log: ImpactLog,
 }
 
 impl Gesture {
@@ -229,6 +235,7 @@ impl Gesture {
             ring_until: 0.0,
             rng: 0,
             seed,
+            log: ImpactLog::with_capacity(GESTURE_LOG_CAPACITY),
         };
         g.reset(seed);
         g
@@ -245,6 +252,7 @@ impl Gesture {
     pub fn reset(&mut self, seed: u64) {
         self.seed = seed;
         self.now = 0.0;
+        self.log.clear();
         self.train.reset();
         self.ring_until = 0.0;
         self.shape.snap_sharpness(self.c.sharpness.clamp(0.5, 8.0));
@@ -362,13 +370,17 @@ impl Gesture {
         (z >> 11) as f64 / (1u64 << 53) as f64
     }
 
-    fn pulse(
-        &mut self,
-        center: f64,
-        amplitude: f64,
-        k: &PulseScale,
-        log: &mut dyn FnMut(ImpactRecord),
-    ) {
+    /// Record impacts (off by default).
+    pub fn set_impact_log(&mut self, enabled: bool) {
+        self.log.set_enabled(enabled);
+    }
+
+    /// The impact record (the voice merges it with the engine's in time order).
+    pub fn impact_log(&mut self) -> &mut ImpactLog {
+        &mut self.log
+    }
+
+    fn pulse(&mut self, center: f64, amplitude: f64, k: &PulseScale) {
         let t0 = duration_s(k.zeta_s, k.theta, amplitude);
         let hw = 0.5 * (t0 * self.fs).max(2.0);
         self.train.add(
@@ -378,11 +390,13 @@ impl Gesture {
             (amplitude * k.gain) as f32,
         );
         self.ring_until = self.ring_until.max(self.now + center + hw + 1.0);
-        log(ImpactRecord {
-            time_s: (self.now + center) / self.fs,
-            amplitude,
-            duration_s: t0,
-        });
+        if self.log.enabled() {
+            self.log.record(ImpactRecord {
+                time_s: (self.now + center) / self.fs,
+                amplitude,
+                duration_s: t0,
+            });
+        }
     }
 
     /// Let `n` samples pass while [`is_idle`](Self::is_idle) (nothing scheduled, nothing
@@ -396,14 +410,8 @@ impl Gesture {
 
     /// Add one chunk of the gesture's impacts to `force` (`force.len() ≤ CHUNK`) and move
     /// time on. `speed` is the rolling speed V (m/s) at the chunk's start and end (the seams
-    /// follow it); `log` receives every impact. Real-time safe.
-    pub fn process(
-        &mut self,
-        force: &mut [f32],
-        k: PulseScale,
-        speed: (f64, f64),
-        log: &mut dyn FnMut(ImpactRecord),
-    ) {
+    /// follow it). Real-time safe.
+    pub fn process(&mut self, force: &mut [f32], k: PulseScale, speed: (f64, f64)) {
         let n = force.len().min(CHUNK);
         let fs = self.fs;
         let lead = 0.5 * T0_MAX_S * fs + 1.0;
@@ -411,7 +419,7 @@ impl Gesture {
         while (self.next_bounce_s * fs - self.now) - lead < n as f64 {
             let center = self.next_bounce_s * fs - self.now;
             let v = self.next_speed;
-            self.pulse(center, bounce_amplitude(v), &k, log);
+            self.pulse(center, bounce_amplitude(v), &k);
             let e = self.c.restitution.clamp(0.0, 0.99);
             let v_next = e * v;
             let flight = 2.0 * v_next / GRAVITY_M_S2;
@@ -433,7 +441,7 @@ impl Gesture {
             let left = (1.0 - t / spin_s).max(0.0);
             let jitter = 1.0 + SPIN_JITTER * (2.0 * self.next_random() - 1.0);
             let a = SPIN_GAIN * left.powf(0.2) * jitter;
-            self.pulse(center, a, &k, log);
+            self.pulse(center, a, &k);
             let rate = spin_rate_hz(self.spin_base_hz(), t, spin_s);
             let next = self.next_spin_s + 1.0 / rate;
             self.next_spin_s = if next - self.start_s < spin_s {
@@ -459,7 +467,7 @@ impl Gesture {
                     let v = v0 + (v1 - v0) * s / n as f64;
                     let a = JOINT_GAIN * self.c.joint_depth * v;
                     if a > 0.0 {
-                        self.pulse(s + lead, a, &k, log);
+                        self.pulse(s + lead, a, &k);
                     }
                 }
                 self.joint_travel = travel + (dist - covered);

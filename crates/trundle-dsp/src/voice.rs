@@ -300,24 +300,43 @@ impl Voice {
         pc.velocity *= f;
         self.space.set_controls(pc);
         self.space.set_path_scale(self.gesture.path_scale());
+        // The physics engine's ball follows the same schedule (its rolling speed; the
+        // bounces themselves are the gesture's pulses in either engine).
+        let mut q = self.params;
+        q.set_clamped(ParamId::Velocity, sc.velocity);
+        self.engines.set_params(&q, false);
     }
 
     /// Record impacts for [`drain_impacts`](Self::drain_impacts).
     pub fn set_impact_log(&mut self, enabled: bool) {
         self.source.set_impact_log(enabled);
         self.engines.set_impact_log(enabled);
+        self.gesture.set_impact_log(enabled);
     }
 
     /// Hand the impacts generated since the last call to `f` (oldest first); returns how
     /// many were dropped because the record was full (drain at least every ~30 000 impacts).
     pub fn drain_impacts(&mut self, mut f: impl FnMut(ImpactRecord)) -> u64 {
-        if self.engines.physics_selected() {
+        // The gesture's impacts (bounces, spin contacts, seams) are merged in time order.
+        let log = self.gesture.impact_log();
+        let mut merged = |r: ImpactRecord| {
+            while let Some(g) = log.peek().filter(|g| g.time_s <= r.time_s) {
+                f(g);
+                log.pop();
+            }
+            f(r);
+        };
+        let dropped = if self.engines.physics_selected() {
             // The signal model runs beside the physics only as its level reference.
             self.source.drain_impacts(|_| {});
-            self.engines.drain_impacts(f)
+            self.engines.drain_impacts(&mut merged)
         } else {
-            self.source.drain_impacts(&mut f) + self.engines.drain_impacts(|_| {})
+            self.source.drain_impacts(&mut merged) + self.engines.drain_impacts(|_| {})
+        };
+        while let Some(g) = log.pop() {
+            f(g);
         }
+        dropped + log.take_dropped()
     }
 
     /// Start an extra ball for `note` with note velocity `velocity` (0…1): pitch sets its
@@ -500,9 +519,7 @@ impl Voice {
             // The gesture's impacts join the rolling force before the position stage.
             let k = self.pulse_scale();
             let speed = (v_before, self.source.velocity());
-            let source = &mut self.source;
-            self.gesture
-                .process(&mut self.force, k, speed, &mut |r| source.log_impact(r));
+            self.gesture.process(&mut self.force, k, speed);
         } else {
             self.gesture.skip_chunk(CHUNK);
         }

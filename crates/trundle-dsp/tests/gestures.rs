@@ -348,3 +348,45 @@ fn neutral_gestures_change_nothing() {
 }
 
 const DEFAULT_FORCE_HASH: u64 = 0x1cb7_2b5c_b4a0_832d;
+
+/// With the physics engine the drop's bounces come at the same times and its ball rolls
+/// only after them (silence between the bounces, rolling once landed).
+#[test]
+fn the_drop_works_with_the_physics_engine() {
+    let mut p = drop_scene(30.0, 0.6);
+    p.set_text("engine", "physics").unwrap();
+    // The object's sound (the physics force carries the ball's static load).
+    p.set_text("output", "object").unwrap();
+    let (y, log) = render(&p, 2.0);
+    let t1 = first_impact_s(0.3);
+    assert!((log[0].time_s - t1).abs() < 0.010, "{}", log[0].time_s);
+    let before = &y[..((t1 - 0.01) * FS) as usize];
+    assert!(
+        before.iter().all(|&v| v == 0.0),
+        "sound before the first impact"
+    );
+    let late = &y[(1.5 * FS) as usize..];
+    assert!(late.iter().any(|&v| v != 0.0), "no rolling after landing");
+}
+
+/// The gesture's impacts are reported with the engine's, in time order.
+#[test]
+fn impacts_are_reported_in_time_order() {
+    for settings in [
+        &[("gesture", "drop"), ("joint_spacing_cm", "7")][..],
+        &[("gesture", "spin")][..],
+        &[("gesture", "drop"), ("engine", "physics")][..],
+    ] {
+        let p = params(settings);
+        let mut v = Voice::new(FS, &p);
+        v.set_impact_log(true);
+        let mut y = vec![0f32; 1500];
+        let mut times = Vec::new();
+        for _ in 0..64 {
+            v.process(&mut y);
+            v.drain_impacts(|r| times.push(r.time_s));
+        }
+        assert!(times.len() > 20, "{settings:?}");
+        assert!(times.windows(2).all(|w| w[0] <= w[1]), "{settings:?}");
+    }
+}
