@@ -22,6 +22,9 @@
 //! * **joints** — the seams of a tiled, planked or paved surface: the rolling ball crosses
 //!   one every `joint_spacing` metres, a click of strength A = [`JOINT_GAIN`]·depth·V
 //!   (V in m/s), i.e. at the rate V/spacing.
+//! * **grit** — loose grains on the surface: a Poisson process along the path,
+//!   [`GRIT_PER_M`]·grit grains per metre (rate ∝ grit·V), each an impact of random strength
+//!   (mean [`GRIT_GAIN`]·V) crossed like a seam.
 //! * **paths with gravity** — the trajectory's speed profile
 //!   ([`crate::space::Trajectory::speed_factor`]) scales the rolling speed: the sound and
 //!   the position stage follow the same speed.
@@ -66,6 +69,11 @@ pub const SPIN_JITTER: f64 = 0.25;
 /// Series-amplitude equivalent of a seam crossed at 1 m/s with depth 1.
 pub const JOINT_GAIN: f64 = 1.5;
 
+/// Grains of loose grit per metre of path at `grit` = 1.
+pub const GRIT_PER_M: f64 = 400.0;
+/// Series-amplitude equivalent of a grain crossed at 1 m/s (mean).
+pub const GRIT_GAIN: f64 = 0.5;
+
 /// Capacity of the gesture's impact record (drained with the engine's, see
 /// [`crate::voice::Voice::drain_impacts`]).
 pub const GESTURE_LOG_CAPACITY: usize = 4096;
@@ -107,6 +115,8 @@ pub struct GestureControls {
     pub joint_depth: f64,
     /// Time scale of the gravity paths (s).
     pub path_time_s: f64,
+    /// Loose grit 0…1 (grains per metre = [`GRIT_PER_M`]·grit).
+    pub grit: f64,
     /// The ball's path.
     pub trajectory: Trajectory,
     /// Rolling speed V (m/s).
@@ -127,6 +137,7 @@ impl GestureControls {
             joint_spacing_m: p.get(ParamId::JointSpacingCm) / 100.0,
             joint_depth: p.get(ParamId::JointDepth),
             path_time_s: p.get(ParamId::PathTimeS),
+            grit: p.get(ParamId::Grit),
             trajectory: p.trajectory(),
             velocity: p.velocity(),
             sharpness: p.get(ParamId::Sharpness),
@@ -137,6 +148,7 @@ impl GestureControls {
     pub fn is_neutral(&self) -> bool {
         self.kind == GestureKind::Roll
             && self.joint_spacing_m <= 0.0
+            && self.grit <= 0.0
             && !self.trajectory.has_gravity()
     }
 }
@@ -205,6 +217,8 @@ pub struct Gesture {
     next_spin_s: f64,
     /// Metres rolled since the last seam.
     joint_travel: f64,
+    /// Metres to the next grain of grit.
+    grit_left: f64,
     /// Last sample any pulse reaches (samples since reset).
     ring_until: f64,
     rng: u64,
@@ -232,6 +246,7 @@ impl Gesture {
             stop_v: 0.0,
             next_spin_s: f64::INFINITY,
             joint_travel: 0.0,
+            grit_left: 0.0,
             ring_until: 0.0,
             rng: 0,
             seed,
@@ -271,6 +286,7 @@ impl Gesture {
         self.stopping = false;
         self.stop_v = 0.0;
         self.joint_travel = 0.0;
+        self.grit_left = -(1.0 - self.next_random()).ln();
         match self.c.kind {
             GestureKind::Roll => {}
             GestureKind::Drop => {
@@ -472,6 +488,26 @@ impl Gesture {
                 }
                 self.joint_travel = travel + (dist - covered);
             }
+        }
+        // Loose grit: grains scattered at random along the path (a Poisson process in
+        // distance, so their rate is GRIT_PER_M·grit·V), each crossed like a seam.
+        if self.c.grit > 0.0 && self.c.kind != GestureKind::Spin {
+            let (v0, v1) = (speed.0.max(0.0), speed.1.max(0.0));
+            let dist = 0.5 * (v0 + v1) * n as f64 / fs;
+            let density = GRIT_PER_M * self.c.grit;
+            // grit_left is in units of the mean grain spacing.
+            let mut covered = 0.0;
+            while dist > 0.0 && covered + self.grit_left / density <= dist {
+                covered += self.grit_left / density;
+                self.grit_left = -(1.0 - self.next_random()).ln();
+                let s = crossing_sample(v0 / fs, v1 / fs, n as f64, covered);
+                let v = v0 + (v1 - v0) * s / n as f64;
+                let a = GRIT_GAIN * v * (0.2 + 1.6 * self.next_random());
+                if a > 0.0 {
+                    self.pulse(s + lead, a, &k);
+                }
+            }
+            self.grit_left -= (dist - covered) * density;
         }
         // Settling.
         if self.c.kind == GestureKind::Drop {

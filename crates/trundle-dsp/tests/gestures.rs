@@ -291,7 +291,11 @@ fn gestures_do_not_allocate() {
             ("roll_time_s", "0.5"),
         ][..],
         &[("gesture", "spin")][..],
-        &[("trajectory", "ramp"), ("joint_spacing_cm", "5")][..],
+        &[
+            ("trajectory", "ramp"),
+            ("joint_spacing_cm", "5"),
+            ("grit", "0.5"),
+        ][..],
     ] {
         let p = params(settings);
         let mut v = Voice::new(FS, &p);
@@ -388,5 +392,26 @@ fn impacts_are_reported_in_time_order() {
         }
         assert!(times.len() > 20, "{settings:?}");
         assert!(times.windows(2).all(|w| w[0] <= w[1]), "{settings:?}");
+    }
+}
+
+/// Loose grit: extra impacts at the rate 400·grit·V per second (a Poisson process: within
+/// 4 standard deviations over 4 s), twice as many at twice the speed or twice the grit.
+#[test]
+fn grit_rate_follows_amount_and_speed() {
+    for (grit, v) in [(0.5, 0.5), (0.25, 0.5), (0.5, 0.25), (1.0, 0.8)] {
+        let mut plain = params(&[("output", "force")]);
+        plain.set(ParamId::Velocity, v).unwrap();
+        let mut gritty = plain;
+        gritty.set(ParamId::Grit, grit).unwrap();
+        let (_, a) = render(&plain, 4.0);
+        let (_, b) = render(&gritty, 4.0);
+        let grains = b.iter().filter(|r| !a.iter().any(|q| q == *r)).count() as f64;
+        let want = trundle_dsp::gesture::GRIT_PER_M * grit * v * 4.0;
+        println!(
+            "grit {grit} V {v}: {grains} grains in 4 s, expected {want} ({:+.1} %)",
+            100.0 * (grains / want - 1.0)
+        );
+        assert!((grains - want).abs() < 4.0 * want.sqrt() + 2.0);
     }
 }

@@ -109,6 +109,8 @@ pub enum ParamId {
     JointDepth,
     /// Time scale of the gravity paths (s).
     PathTimeS,
+    /// Loose grit on the surface.
+    Grit,
 }
 
 /// A parameter whose value is one of a few named variants (shape, output, engine…).

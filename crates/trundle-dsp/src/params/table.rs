@@ -18,7 +18,7 @@ const PERCENT: ParamKind = ParamKind::Float {
 };
 
 /// Number of parameters.
-pub const PARAM_COUNT: usize = 36;
+pub const PARAM_COUNT: usize = 37;
 
 /// The parameter table, indexed by [`ParamId`].
 pub const PARAMS: [ParamSpec; PARAM_COUNT] = [
@@ -417,5 +417,16 @@ ParamSpec {
         default: 6.0,
         kind: LOG,
         doc: "bowl, ramp and slow-to-stop trajectories: time to reach the bowl's centre, the ramp's full speed V, or rest",
+    },
+    ParamSpec {
+        id: ParamId::Grit,
+        key: "grit",
+        name: "Grit",
+        unit: "",
+        min: 0.0,
+        max: 1.0,
+        default: 0.0,
+        kind: PERCENT,
+        doc: "Loose grit on the surface: grains scattered at random along the path (400 per metre at 1), each an extra impact of random strength proportional to the speed, so their rate is proportional to grit and speed; 0 = a clean surface",
     },
 ];
