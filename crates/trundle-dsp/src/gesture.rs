@@ -165,6 +165,29 @@ pub struct PulseScale {
     pub gain: f64,
 }
 
+/// The pulse law of `source` for a ball of size `size` (its action, contact and level in
+/// force), for a gesture's impacts.
+pub fn pulse_scale(source: &crate::source::Source, size: f64) -> PulseScale {
+    let ap = source.action();
+    let c = source.contact_scale();
+    PulseScale {
+        zeta_s: ap.zeta_s * c,
+        theta: ap.theta,
+        gain: ap.pulse_gain * ap.level_gain * crate::lowpass::size_gain(size) / c,
+    }
+}
+
+/// The drop height (m) of an extra ball started by a note of velocity `velocity` (0…1) when
+/// the scene's gesture is `drop`: 1 cm + 99 cm × velocity.
+pub fn height_for_note(velocity: f64) -> f64 {
+    let v = if velocity.is_finite() {
+        velocity.clamp(0.0, 1.0)
+    } else {
+        0.5
+    };
+    0.01 + 0.99 * v
+}
+
 /// Times in the bounce law (seconds from the start): the first impact, then each next one.
 pub fn first_impact_s(height_m: f64) -> f64 {
     (2.0 * height_m.max(0.0) / GRAVITY_M_S2).sqrt()
@@ -229,6 +252,17 @@ pub struct Gesture {
 impl Gesture {
     /// A gesture stage at `sample_rate_hz` (sanitized).
     pub fn new(sample_rate_hz: f64, c: GestureControls, seed: u64) -> Self {
+        Self::with_log_capacity(sample_rate_hz, c, seed, GESTURE_LOG_CAPACITY)
+    }
+
+    /// As [`new`](Self::new) with an impact record of `capacity` records (an extra ball's
+    /// gesture keeps none).
+    pub fn with_log_capacity(
+        sample_rate_hz: f64,
+        c: GestureControls,
+        seed: u64,
+        capacity: usize,
+    ) -> Self {
         let fs = crate::sanitize_sample_rate(sample_rate_hz);
         let mut g = Self {
             fs,
@@ -250,7 +284,7 @@ impl Gesture {
             ring_until: 0.0,
             rng: 0,
             seed,
-            log: ImpactLog::with_capacity(GESTURE_LOG_CAPACITY),
+            log: ImpactLog::with_capacity(capacity),
         };
         g.reset(seed);
         g
@@ -329,6 +363,14 @@ impl Gesture {
                 && !self.next_spin_s.is_finite()
                 && self.now >= self.ring_until
                 && self.rolling_factor() == 0.0)
+    }
+
+    /// True when the gesture is over: nothing scheduled, nothing sounding, not rolling.
+    pub fn is_finished(&self) -> bool {
+        !self.next_bounce_s.is_finite()
+            && !self.next_spin_s.is_finite()
+            && self.now >= self.ring_until
+            && self.rolling_factor() * self.c.velocity == 0.0
     }
 
     fn spin_base_hz(&self) -> f64 {

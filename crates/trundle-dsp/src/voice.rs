@@ -166,6 +166,7 @@ impl Voice {
             t.set_quality(params.quality());
             t.set_controls(object_controls(params));
         }
+        v.balls.set_gesture(GestureControls::from_params(params));
         v.reset();
         v
     }
@@ -210,6 +211,8 @@ impl Voice {
         self.space.set_sample_rate(self.fs);
         self.dc.set_sample_rate(self.fs);
         self.balls.set_sample_rate(self.fs);
+        self.balls
+            .set_gesture(GestureControls::from_params(&self.params));
         self.object.set_sample_rate(self.fs);
         for (t, d) in self.twins.iter_mut().zip(&mut self.twin_dc) {
             t.set_sample_rate(self.fs);
@@ -273,6 +276,7 @@ impl Voice {
         self.engines.set_params(params, seed_changed);
         self.gesture
             .set_controls(GestureControls::from_params(params));
+        self.balls.set_gesture(GestureControls::from_params(params));
     }
 
     /// Start the gesture again now (a drop falls, a spin begins). Real-time safe.
@@ -479,13 +483,7 @@ impl Voice {
 
     /// How the gesture's impacts become pulses: the source's contact and level in force.
     fn pulse_scale(&self) -> PulseScale {
-        let ap = self.source.action();
-        let c = self.source.contact_scale();
-        PulseScale {
-            zeta_s: ap.zeta_s * c,
-            theta: ap.theta,
-            gain: ap.pulse_gain * ap.level_gain * crate::lowpass::size_gain(self.params.size()) / c,
-        }
+        crate::gesture::pulse_scale(&self.source, self.params.size())
     }
 
     fn render_chunk(&mut self) {

@@ -415,3 +415,45 @@ fn grit_rate_follows_amount_and_speed() {
         assert!((grains - want).abs() < 4.0 * want.sqrt() + 2.0);
     }
 }
+
+/// In a `drop` scene a note drops an extra ball from 1 cm + 99 cm × velocity: its bounces
+/// follow the same law (first impact at √(2h/g), the next after 2·e·v₀/g), and with a roll
+/// time it settles and frees its slot by itself.
+#[test]
+fn a_note_drops_a_ball_in_a_drop_scene() {
+    // The scene's own ball falls from 2 m (first impact at 0.64 s): the note's ball is alone
+    // before that.
+    let mut p = drop_scene(200.0, 0.6);
+    p.set(ParamId::RollTimeS, 0.3).unwrap();
+    let mut v = Voice::new(FS, &p);
+    let mut y = vec![0f32; (0.6 * FS) as usize];
+    v.note_on(60, 0.2);
+    v.process(&mut y);
+    let h = trundle_dsp::gesture::height_for_note(0.2);
+    let (t1, v0) = (first_impact_s(h), impact_speed(h));
+    let max = y.iter().fold(0f32, |m, s| m.max(s.abs()));
+    let found = peaks(&y, 0.0, 0.6, 0.05 * max);
+    let flight = 2.0 * 0.6 * v0 / GRAVITY_M_S2;
+    println!(
+        "note ball from {:.1} cm: impacts at {:.4?} s (law {t1:.4}, then +{flight:.4})",
+        100.0 * h,
+        &found[..2]
+    );
+    assert!((found[0] - t1).abs() < 0.010);
+    assert!(((found[1] - found[0]) / flight - 1.0).abs() < 0.05);
+    assert_eq!(v.active_balls(), 1);
+    let mut rest = vec![0f32; (4.0 * FS) as usize];
+    v.process(&mut rest);
+    assert_eq!(
+        v.active_balls(),
+        0,
+        "the dropped ball settled and freed its slot"
+    );
+    // Nothing allocates when a note drops a ball.
+    v.reset();
+    let n = common::allocations_during(|| {
+        v.note_on(64, 0.9);
+        v.process(&mut y);
+    });
+    assert_eq!(n, 0);
+}
