@@ -292,6 +292,11 @@ fn gestures_do_not_allocate() {
         ][..],
         &[("gesture", "spin")][..],
         &[
+            ("gesture", "drop"),
+            ("engine", "physics"),
+            ("roll_time_s", "0.5"),
+        ][..],
+        &[
             ("trajectory", "ramp"),
             ("joint_spacing_cm", "5"),
             ("grit", "0.5"),
@@ -352,6 +357,54 @@ fn neutral_gestures_change_nothing() {
 }
 
 const DEFAULT_FORCE_HASH: u64 = 0x1cb7_2b5c_b4a0_832d;
+
+/// With the physics engine the drop is a Hunt–Crossley ball with mass falling under gravity
+/// onto the contact (the physics engine's κ for the ball and object materials): its
+/// contacts, integrated by RK4, land on the restitution law (first impact ± 10 ms, four
+/// flights within 5 %), and the engine's ball rolls only after them.
+#[test]
+fn the_physics_drop_is_a_hunt_crossley_bounce_on_the_law() {
+    for (h, e, ball) in [
+        (30.0, 0.6, "steel"),
+        (100.0, 0.8, "glass"),
+        (10.0, 0.4, "rubber"),
+    ] {
+        let mut p = drop_scene(h, e);
+        p.set_text("engine", "physics").unwrap();
+        p.set_text("ball_material", ball).unwrap();
+        let (y, log) = render(&p, 3.5);
+        let v0 = impact_speed(h / 100.0);
+        let t1 = first_impact_s(h / 100.0);
+        // The force between the bounces is the engine's ball at rest (its static load, a
+        // constant): the bounces are the only peaks above it.
+        let rest = y[(0.5 * t1 * FS) as usize];
+        let z: Vec<f32> = y.iter().map(|v| v - rest).collect();
+        let max = z.iter().fold(0f32, |m, v| m.max(v.abs()));
+        let found = peaks(
+            &z,
+            0.0,
+            t1 + 2.0 * v0 * e / GRAVITY_M_S2 / (1.0 - e),
+            0.01 * max,
+        );
+        println!(
+            "HC {ball} h {h} cm e {e}: first impact {:.4} s (law {t1:.4} s)",
+            log[0].time_s
+        );
+        assert!((log[0].time_s - t1).abs() < 0.010);
+        assert!((found[0] - t1).abs() < 0.010, "{found:?}");
+        for k in 1..=4 {
+            let law = 2.0 * e.powi(k) * v0 / GRAVITY_M_S2;
+            let logged = log[k as usize].time_s - log[k as usize - 1].time_s;
+            let measured = found[k as usize] - found[k as usize - 1];
+            println!(
+                "  flight {k}: {measured:.4} s signal, {logged:.4} s contacts, law {law:.4} s ({:+.2} %)",
+                100.0 * (logged / law - 1.0)
+            );
+            assert!((logged / law - 1.0).abs() < 0.05);
+            assert!((measured / law - 1.0).abs() < 0.05);
+        }
+    }
+}
 
 /// With the physics engine the drop's bounces come at the same times and its ball rolls
 /// only after them (silence between the bounces, rolling once landed).
