@@ -437,6 +437,8 @@ impl BallPool {
             let c = GestureControls {
                 height_m: crate::gesture::height_for_note(velocity),
                 velocity: b.velocity,
+                // Balls use the signal engine: their bounces are the model's pulses.
+                hc_kappa: 0.0,
                 ..self.gesture
             };
             b.gesture.set_controls(c);

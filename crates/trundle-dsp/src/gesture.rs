@@ -263,8 +263,10 @@ pub struct Gesture {
     log: ImpactLog,
     /// The Hunt–Crossley ball (physics engine), while it bounces.
     hc: Option<HcBall>,
-    /// Its dimensionless damping c = χ·v_in giving the restitution in force.
+    /// Its dimensionless damping c = χ·v_in giving the restitution in force, and that
+    /// restitution (the bisection runs only when it changes).
     hc_damping: f64,
+    hc_damping_e: f64,
 }
 
 /// A ball falling under gravity onto a Hunt–Crossley contact: height y of its lowest point
@@ -316,6 +318,7 @@ impl Gesture {
             log: ImpactLog::with_capacity(capacity),
             hc: None,
             hc_damping: 0.0,
+            hc_damping_e: f64::NAN,
         };
         g.reset(seed);
         g
@@ -358,7 +361,10 @@ impl Gesture {
             GestureKind::Drop => {
                 self.hc = None;
                 if self.c.hc_kappa > 0.0 {
-                    self.hc_damping = hc_damping_for(self.c.restitution);
+                    if self.hc_damping_e != self.c.restitution {
+                        self.hc_damping = hc_damping_for(self.c.restitution);
+                        self.hc_damping_e = self.c.restitution;
+                    }
                     self.hc = Some(HcBall {
                         y: self.c.height_m.max(0.0),
                         v: 0.0,
