@@ -23,6 +23,12 @@
 //! * **seed**: the scene seed combined with the note number and how many notes came
 //!   before it since the last reset — the same note sequence gives the same samples.
 //!
+//! **Dropped balls** (docs/MODEL.md §11): when the scene's `gesture` is `drop`, a note drops
+//! its ball instead — note velocity sets the height, 1 cm + 99 cm × velocity
+//! ([`crate::gesture::height_for_note`]); it bounces by the scene's restitution, then rolls
+//! at the scene's V (with the scene's seams, grit and path), settles after `roll_time_s`
+//! and frees its slot (or rolls on until its note off when `roll_time_s` = 0).
+//!
 //! When every slot is busy, the oldest ball is stopped abruptly and reused (voice
 //! stealing). Balls use the signal engine.
 //!
@@ -56,6 +62,8 @@
 //! [`BallPool::new`] and [`BallPool::set_sample_rate`] allocate every slot; starting,
 //! stopping and processing never allocate.
 
+use crate::gesture::{Gesture, GestureControls, GestureKind};
+use crate::params::Params;
 use crate::source::{Source, SourceControls};
 use crate::space::{Space, SpaceControls};
 use crate::CHUNK;
@@ -243,6 +251,9 @@ struct Ball {
     size: f64,
     velocity: f64,
     position: (f64, f64),
+    /// The ball's own gesture (a dropped ball), when `dropping`.
+    gesture: Gesture,
+    dropping: bool,
 }
 
 /// The pool of extra balls.
@@ -260,6 +271,8 @@ pub struct BallPool {
     /// [`drain_ended`](Self::drain_ended); at most one per slot between drains is kept.
     ended: [BallId; 2 * MAX_BALLS],
     ended_count: usize,
+    /// The scene's gesture (a `drop` scene drops every new ball).
+    gesture: GestureControls,
 }
 
 impl BallPool {
@@ -279,6 +292,13 @@ impl BallPool {
             size: 0.4,
             velocity: 0.0,
             position: (0.0, 0.0),
+            gesture: Gesture::with_log_capacity(
+                fs,
+                GestureControls::from_params(&Params::default()),
+                0,
+                1,
+            ),
+            dropping: false,
         };
         Self {
             fs,
@@ -289,7 +309,14 @@ impl BallPool {
             count: 0,
             ended: [BallId::default(); 2 * MAX_BALLS],
             ended_count: 0,
+            gesture: GestureControls::from_params(&Params::default()),
         }
+    }
+
+    /// The scene's gesture controls: with `drop`, new balls are dropped (module docs).
+    /// Real-time safe.
+    pub fn set_gesture(&mut self, c: GestureControls) {
+        self.gesture = c;
     }
 
     fn record_ended(&mut self, id: BallId) {
@@ -396,6 +423,25 @@ impl BallPool {
         b.source.reset();
         b.space.set_controls(pc);
         b.space.reset();
+        b.dropping = self.gesture.kind == GestureKind::Drop;
+        if b.dropping {
+            // A dropped ball: the note's velocity is its height; it rolls at the scene's V.
+            b.velocity = scene.velocity.clamp(0.0, 1.0);
+            let c = GestureControls {
+                height_m: crate::gesture::height_for_note(velocity),
+                velocity: b.velocity,
+                // Balls use the signal engine: their bounces are the model's pulses.
+                hc_kappa: 0.0,
+                ..self.gesture
+            };
+            b.gesture.set_controls(c);
+            b.gesture.reset(seed);
+            // Falling: not rolling yet (the source starts at rest, not gliding down from V).
+            let mut at_rest = sc;
+            at_rest.velocity = 0.0;
+            b.source.set_controls(at_rest);
+            b.source.reset();
+        }
         self.count = self.balls.iter().filter(|b| b.active).count();
     }
 
@@ -484,11 +530,23 @@ impl BallPool {
                     b.velocity = 0.0;
                 }
             }
-            let (sc, pc) = Self::controls(b, scene, space);
+            let (mut sc, mut pc) = Self::controls(b, scene, space);
+            if b.dropping {
+                // The drop's schedule: silent fall, bounces, then rolling at the ball's speed.
+                let f = b.gesture.rolling_factor();
+                sc.velocity *= f;
+                pc.velocity *= f;
+                b.space.set_path_scale(b.gesture.path_scale());
+            }
             b.source.set_controls(sc);
             b.space.set_controls(pc);
             let buf = &mut self.buf[..n];
+            let v_before = b.source.velocity();
             b.source.process_chunk(buf);
+            if b.dropping {
+                let k = crate::gesture::pulse_scale(&b.source, sc.size);
+                b.gesture.process(buf, k, (v_before, b.source.velocity()));
+            }
             b.space.process(buf);
             let target = b.gestures.gain();
             if target == 1.0 && b.gain == 1.0 {
@@ -503,8 +561,10 @@ impl BallPool {
                 }
                 b.gain = target;
             }
-            // Stopped: its loudness √V is 50 dB down and its last pulses have played.
-            if b.stopping && b.source.velocity() < 1e-5 {
+            // Stopped: its loudness √V is 50 dB down and its last pulses have played (a
+            // dropped ball also once its gesture has settled).
+            let settled = b.dropping && b.gesture.is_finished() && b.source.at_rest();
+            if (b.stopping || settled) && b.source.velocity() < 1e-5 {
                 b.rest_samples += n;
                 if b.rest_samples as f64 >= RELEASE_S * self.fs {
                     b.active = false;

@@ -120,6 +120,7 @@ pub mod engine_mix;
 pub mod events;
 #[cfg(feature = "fit")]
 pub mod fit;
+pub mod gesture;
 pub mod limiter;
 pub mod lowpass;
 pub mod material;

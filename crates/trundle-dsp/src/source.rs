@@ -107,6 +107,11 @@ impl Default for ImpactLog {
 impl ImpactLog {
     /// An empty, disabled log.
     pub fn new() -> Self {
+        Self::with_capacity(IMPACT_LOG_CAPACITY)
+    }
+
+    /// An empty, disabled log of `capacity` records (at least 1).
+    pub fn with_capacity(capacity: usize) -> Self {
         Self {
             ring: vec![
                 ImpactRecord {
@@ -114,7 +119,7 @@ impl ImpactLog {
                     amplitude: 0.0,
                     duration_s: 0.0
                 };
-                IMPACT_LOG_CAPACITY
+                capacity.max(1)
             ],
             head: 0,
             len: 0,
@@ -150,6 +155,26 @@ impl ImpactLog {
         } else {
             self.len += 1;
         }
+    }
+
+    /// The oldest unread record, if any.
+    pub fn peek(&self) -> Option<ImpactRecord> {
+        let cap = self.ring.len();
+        (self.len > 0).then(|| self.ring[(self.head + cap - self.len) % cap])
+    }
+
+    /// Remove and return the oldest unread record.
+    pub fn pop(&mut self) -> Option<ImpactRecord> {
+        let r = self.peek();
+        if r.is_some() {
+            self.len -= 1;
+        }
+        r
+    }
+
+    /// Records dropped since the last drain (cleared by [`drain`](Self::drain)).
+    pub fn take_dropped(&mut self) -> u64 {
+        core::mem::take(&mut self.dropped)
     }
 
     /// Hand every record (oldest first) to `f` and clear; returns how many were dropped

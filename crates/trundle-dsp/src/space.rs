@@ -29,6 +29,13 @@
 //! along x through the set position (turning at ±0.9), `circle` goes round the centre
 //! through the set position (radius at least 0.1). Both start at the set position, so
 //! switching trajectory never jumps; the ball's position is also smoothed.
+//!
+//! **Paths with gravity** (docs/MODEL.md §11): `ramp` and `slow-to-stop` follow the line
+//! at a speed that rises from rest to V or falls from V to rest over the path time;
+//! `bowl` circles a parabolic bowl whose orbit frequency does not depend on the radius, so
+//! as friction lets the ball spiral in, radius and speed shrink together
+//! ([`Trajectory::speed_factor`], [`Space::set_path_scale`]). The voice sets the speed
+//! (the sound follows it) and the bowl's radius; the stereo image follows the ball.
 
 use crate::params::{ParamEnum, ParamId};
 use crate::smooth::Smoother;
@@ -50,11 +57,49 @@ pub enum Trajectory {
     Line,
     /// Round the centre through the set position.
     Circle,
+    /// Circling and spiralling down into a parabolic bowl: the radius shrinks from the set
+    /// position's to 0 over the path time, the speed with it (docs/MODEL.md §11).
+    Bowl,
+    /// Released from rest on a ramp: along the line, accelerating uniformly to V.
+    Ramp,
+    /// Along the line, slowing uniformly from V to rest.
+    SlowToStop,
+}
+
+impl Trajectory {
+    /// The ball's speed as a fraction of V at `t_s` seconds into a path of time scale
+    /// `path_s` (docs/MODEL.md §11): 1 for the constant-speed paths; the bowl and
+    /// slow-to-stop fall linearly to 0 at `path_s`, the ramp rises linearly from 0 to 1 at
+    /// `path_s` (uniform acceleration).
+    pub fn speed_factor(self, t_s: f64, path_s: f64) -> f64 {
+        let u = if path_s > 0.0 { t_s / path_s } else { 1.0 };
+        match self {
+            Trajectory::Manual | Trajectory::Line | Trajectory::Circle => 1.0,
+            Trajectory::Bowl | Trajectory::SlowToStop => (1.0 - u).clamp(0.0, 1.0),
+            Trajectory::Ramp => u.clamp(0.0, 1.0),
+        }
+    }
+
+    /// True for the paths with gravity (their speed changes along the way).
+    pub fn has_gravity(self) -> bool {
+        matches!(
+            self,
+            Trajectory::Bowl | Trajectory::Ramp | Trajectory::SlowToStop
+        )
+    }
 }
 
 impl ParamEnum for Trajectory {
-    const VARIANTS: &'static [Self] = &[Trajectory::Manual, Trajectory::Line, Trajectory::Circle];
-    const NAMES: &'static [&'static str] = &["manual", "line", "circle"];
+    const VARIANTS: &'static [Self] = &[
+        Trajectory::Manual,
+        Trajectory::Line,
+        Trajectory::Circle,
+        Trajectory::Bowl,
+        Trajectory::Ramp,
+        Trajectory::SlowToStop,
+    ];
+    const NAMES: &'static [&'static str] =
+        &["manual", "line", "circle", "bowl", "ramp", "slow-to-stop"];
     const ID: ParamId = ParamId::Trajectory;
 }
 
@@ -135,6 +180,10 @@ pub struct Space {
     gains: [f64; 4],
     active: bool,
     primed: bool,
+    /// The bowl's radius as a fraction of its start radius (1 = the set position's).
+    path_scale: f64,
+    /// The bowl's angle travelled (radians).
+    angle: f64,
 }
 
 impl Space {
@@ -161,6 +210,8 @@ impl Space {
             gains: [0.0; 4],
             active: false,
             primed: false,
+            path_scale: 1.0,
+            angle: 0.0,
         };
         s.set_controls(c);
         s.reset();
@@ -198,6 +249,8 @@ impl Space {
         self.line.iter_mut().for_each(|x| *x = 0.0);
         self.write = 0;
         self.travelled = 0.0;
+        self.angle = 0.0;
+        self.path_scale = 1.0;
         self.ball = (self.pos_x.value(), self.pos_y.value());
         self.active = self.amount.value() > 0.0;
         self.primed = false;
@@ -217,6 +270,16 @@ impl Space {
         if c.trajectory != self.trajectory {
             self.trajectory = c.trajectory;
             self.travelled = 0.0;
+            self.angle = 0.0;
+        }
+    }
+
+    /// The bowl's radius as a fraction of its start radius (set by the voice from the
+    /// path's time, see [`Trajectory::speed_factor`]; 1 for every other path). Real-time
+    /// safe.
+    pub fn set_path_scale(&mut self, scale: f64) {
+        if scale.is_finite() {
+            self.path_scale = scale.clamp(0.0, 1.0);
         }
     }
 
@@ -262,7 +325,7 @@ impl Space {
         let (px, py) = (self.pos_x.value(), self.pos_y.value());
         match self.trajectory {
             Trajectory::Manual => (px, py),
-            Trajectory::Line => {
+            Trajectory::Line | Trajectory::Ramp | Trajectory::SlowToStop => {
                 // Triangle wave between ±LINE_EXTENT starting at px, moving to +x.
                 let span = 2.0 * LINE_EXTENT;
                 let start = px.clamp(-LINE_EXTENT, LINE_EXTENT) + LINE_EXTENT;
@@ -280,6 +343,17 @@ impl Space {
                 let a = a0 + self.travelled / r;
                 (r * a.cos(), r * a.sin())
             }
+            Trajectory::Bowl => {
+                let r0 = px.hypot(py).clamp(0.1, 0.95);
+                let a0 = if px == 0.0 && py == 0.0 {
+                    0.0
+                } else {
+                    py.atan2(px)
+                };
+                let r = r0 * self.path_scale;
+                let a = a0 + self.angle;
+                (r * a.cos(), r * a.sin())
+            }
         }
     }
 
@@ -293,8 +367,21 @@ impl Space {
         // Move the ball: V m/s is 2V/L normalised units per second.
         let step = 2.0 * self.velocity / self.size_m * n as f64 / fs;
         self.travelled += step;
+        if self.trajectory == Trajectory::Bowl {
+            // Parabolic bowl: speed ∝ radius, so the angular rate V/r₀ stays constant while
+            // the ball spirals in (docs/MODEL.md §11).
+            let r = self
+                .pos_x
+                .target()
+                .hypot(self.pos_y.target())
+                .clamp(0.1, 0.95)
+                * self.path_scale;
+            if r > 1e-9 {
+                self.angle = (self.angle + step / r).rem_euclid(core::f64::consts::TAU);
+            }
+        }
         let period = match self.trajectory {
-            Trajectory::Line => 4.0 * LINE_EXTENT,
+            Trajectory::Line | Trajectory::Ramp | Trajectory::SlowToStop => 4.0 * LINE_EXTENT,
             Trajectory::Circle => {
                 core::f64::consts::TAU
                     * self
@@ -303,9 +390,9 @@ impl Space {
                         .hypot(self.pos_y.target())
                         .clamp(0.1, 0.95)
             }
-            Trajectory::Manual => 1.0,
+            Trajectory::Manual | Trajectory::Bowl => 1.0,
         };
-        if self.trajectory == Trajectory::Manual {
+        if matches!(self.trajectory, Trajectory::Manual | Trajectory::Bowl) {
             self.travelled = 0.0;
         } else if self.travelled >= period && period > 0.0 {
             // Wrap whole periods (circle radius may have changed: wrap only when safe).

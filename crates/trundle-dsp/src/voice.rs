@@ -25,6 +25,7 @@
 use crate::balls::{BallId, BallPool, BallTarget, Expression};
 use crate::dcblock::DcBlock;
 use crate::engine_mix::EngineMix;
+use crate::gesture::{Gesture, GestureControls, PulseScale};
 use crate::object::fitted::LoadedObject;
 use crate::object::{Object, ObjectControls};
 use crate::params::{ParamId, Params};
@@ -78,6 +79,8 @@ pub struct Voice {
     balls: BallPool,
     /// The level law's gain on the summed force ([`crate::balls::level_for_balls`]).
     ball_level: Smoother,
+    /// The gesture: drop, spin, seams, paths with gravity ([`crate::gesture`]).
+    gesture: Gesture,
     /// The last chunk's force and DC-blocked force were exactly zero (the DC blocker's
     /// state is then zero too): with a zero force it may be skipped.
     quiet: bool,
@@ -157,6 +160,7 @@ impl Voice {
             engines: EngineMix::new(fs, params),
             balls: BallPool::new(fs),
             ball_level: Smoother::new(1.0),
+            gesture: Gesture::new(fs, GestureControls::from_params(params), seed),
             quiet: false,
         };
         v.object.set_quality(params.quality());
@@ -165,6 +169,7 @@ impl Voice {
             t.set_quality(params.quality());
             t.set_controls(object_controls(params));
         }
+        v.balls.set_gesture(GestureControls::from_params(params));
         v.reset();
         v
     }
@@ -231,12 +236,15 @@ impl Voice {
         self.space.set_sample_rate(self.fs);
         self.dc.set_sample_rate(self.fs);
         self.balls.set_sample_rate(self.fs);
+        self.balls
+            .set_gesture(GestureControls::from_params(&self.params));
         self.object.set_sample_rate(self.fs);
         for (t, d) in self.twins.iter_mut().zip(&mut self.twin_dc) {
             t.set_sample_rate(self.fs);
             d.set_sample_rate(self.fs);
         }
         self.engines.set_sample_rate(self.fs);
+        self.gesture.set_sample_rate(self.fs);
         self.reset();
     }
 
@@ -255,6 +263,7 @@ impl Voice {
             d.reset();
         }
         self.engines.reset();
+        self.gesture.reset(self.seed);
         self.gain.snap_to_target();
         self.force_mix.snap_to_target();
         self.started = false;
@@ -290,24 +299,73 @@ impl Voice {
             self.source.set_seed(seed);
         }
         self.engines.set_params(params, seed_changed);
+        self.gesture
+            .set_controls(GestureControls::from_params(params));
+        self.balls.set_gesture(GestureControls::from_params(params));
+    }
+
+    /// Start the gesture again now (a drop falls, a spin begins). Real-time safe.
+    pub fn restart_gesture(&mut self) {
+        self.gesture.restart();
+    }
+
+    /// The gesture stage, for inspection.
+    pub fn gesture(&self) -> &Gesture {
+        &self.gesture
+    }
+
+    /// Hand the gesture's schedule to the source and the position stage: the rolling speed
+    /// V × the gesture's factor, the bowl's radius. Does nothing when the gesture is
+    /// neutral (the voice is then exactly what it was without gestures).
+    fn apply_gesture(&mut self) {
+        if self.gesture.is_neutral() {
+            return;
+        }
+        let f = self.gesture.rolling_factor();
+        let mut sc = source_controls(&self.params);
+        sc.velocity = (sc.velocity * f).clamp(0.0, 1.0);
+        self.source.set_controls(sc);
+        let mut pc = space_controls(&self.params);
+        pc.velocity *= f;
+        self.space.set_controls(pc);
+        self.space.set_path_scale(self.gesture.path_scale());
+        // The physics engine's ball follows the same schedule (its rolling speed; the
+        // bounces themselves are the gesture's pulses in either engine).
+        let mut q = self.params;
+        q.set_clamped(ParamId::Velocity, sc.velocity);
+        self.engines.set_params(&q, false);
     }
 
     /// Record impacts for [`drain_impacts`](Self::drain_impacts).
     pub fn set_impact_log(&mut self, enabled: bool) {
         self.source.set_impact_log(enabled);
         self.engines.set_impact_log(enabled);
+        self.gesture.set_impact_log(enabled);
     }
 
     /// Hand the impacts generated since the last call to `f` (oldest first); returns how
     /// many were dropped because the record was full (drain at least every ~30 000 impacts).
     pub fn drain_impacts(&mut self, mut f: impl FnMut(ImpactRecord)) -> u64 {
-        if self.engines.physics_selected() {
+        // The gesture's impacts (bounces, spin contacts, seams) are merged in time order.
+        let log = self.gesture.impact_log();
+        let mut merged = |r: ImpactRecord| {
+            while let Some(g) = log.peek().filter(|g| g.time_s <= r.time_s) {
+                f(g);
+                log.pop();
+            }
+            f(r);
+        };
+        let dropped = if self.engines.physics_selected() {
             // The signal model runs beside the physics only as its level reference.
             self.source.drain_impacts(|_| {});
-            self.engines.drain_impacts(f)
+            self.engines.drain_impacts(&mut merged)
         } else {
-            self.source.drain_impacts(&mut f) + self.engines.drain_impacts(|_| {})
+            self.source.drain_impacts(&mut merged) + self.engines.drain_impacts(|_| {})
+        };
+        while let Some(g) = log.pop() {
+            f(g);
         }
+        dropped + log.take_dropped()
     }
 
     /// Start an extra ball for `note` with note velocity `velocity` (0…1): pitch sets its
@@ -429,6 +487,7 @@ impl Voice {
     /// Snap the smoothers on the first call after a reset (a render starts at its targets).
     fn start(&mut self) {
         if !self.started {
+            self.apply_gesture();
             self.source.snap_controls();
             self.space.snap_controls();
             self.object.snap_controls();
@@ -442,11 +501,18 @@ impl Voice {
         }
     }
 
+    /// How the gesture's impacts become pulses: the source's contact and level in force.
+    fn pulse_scale(&self) -> PulseScale {
+        crate::gesture::pulse_scale(&self.source, self.params.size())
+    }
+
     fn render_chunk(&mut self) {
         let fs = self.fs;
         let signal_only = self.engines.signal_only();
+        self.apply_gesture();
         if self.quiet
             && signal_only
+            && self.gesture.is_idle()
             && self.balls.active() == 0
             && self.source.is_idle()
             && self.space.is_idle()
@@ -460,11 +526,21 @@ impl Voice {
             // all zero from the last chunk: that is what `quiet` records).
             self.source.skip_chunk(CHUNK);
             self.engines.skip_chunk();
+            self.gesture.skip_chunk(CHUNK);
             self.sound.fill(0.0);
             self.side.fill(0.0);
             return;
         }
+        let v_before = self.source.velocity();
         self.engines.force_chunk(&mut self.source, &mut self.force);
+        if !self.gesture.is_neutral() {
+            // The gesture's impacts join the rolling force before the position stage.
+            let k = self.pulse_scale();
+            let speed = (v_before, self.source.velocity());
+            self.gesture.process(&mut self.force, k, speed);
+        } else {
+            self.gesture.skip_chunk(CHUNK);
+        }
         self.space.process(&mut self.force);
         if self.balls.active() > 0 {
             // Extra balls roll on the same object: their forces add before it.
@@ -487,6 +563,7 @@ impl Voice {
             && silent_force
             && signal_only
             && self.source.at_rest()
+            && self.gesture.is_idle()
             && self.balls.active() == 0
             && self.object.is_silent()
         {

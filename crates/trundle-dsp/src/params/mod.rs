@@ -93,6 +93,24 @@ pub enum ParamId {
     Limiter,
     /// What the ball is made of (with the object's material: the contact, [`crate::contact`]).
     BallMaterial,
+    /// The gesture: roll, drop or spin ([`crate::gesture`]).
+    Gesture,
+    /// Drop height (cm).
+    DropHeightCm,
+    /// Coefficient of restitution of the bounce.
+    Restitution,
+    /// Rolling time after a drop before it slows to rest (s; 0 = rolls on).
+    RollTimeS,
+    /// Duration of a spin-down (s).
+    SpinTimeS,
+    /// Spacing of the surface's seams (cm; 0 = none).
+    JointSpacingCm,
+    /// Depth of the surface's seams.
+    JointDepth,
+    /// Time scale of the gravity paths (s).
+    PathTimeS,
+    /// Loose grit on the surface.
+    Grit,
 }
 
 /// A parameter whose value is one of a few named variants (shape, output, engine…).
@@ -427,6 +445,10 @@ impl Params {
             self.get(ParamId::MaterialX),
             self.get(ParamId::MaterialY),
         )
+    }
+    /// The gesture (roll, drop, spin).
+    pub fn gesture(&self) -> crate::gesture::GestureKind {
+        self.variant()
     }
     /// Whether the output safety limiter acts.
     pub fn limiting(&self) -> crate::limiter::Limiting {
