@@ -63,6 +63,8 @@ pub enum Draw {
     IntLog(f64, f64),
     /// Any variant of an enumeration, uniformly.
     AnyVariant,
+    /// One of the enumeration's first `n` variants, uniformly (the others end the sound).
+    FirstVariants(u8),
     /// A point of a disk pad (this parameter is x, `y` the other coordinate), uniform over
     /// the disk of radius `r`.
     Disk {
@@ -113,7 +115,8 @@ pub const RANGES: [(ParamId, Group, Draw); 21] = [
     (ParamId::ListenX, Group::Position, Draw::Linear(-0.8, 0.8)),
     (ParamId::ListenY, Group::Position, Draw::Linear(-0.8, 0.8)),
     (ParamId::Comb, Group::Position, Draw::Linear(0.0, 0.6)),
-    (ParamId::Trajectory, Group::Position, Draw::AnyVariant),
+    // manual, line, circle: the gravity paths (bowl, ramp, slow-to-stop) come to rest.
+    (ParamId::Trajectory, Group::Position, Draw::FirstVariants(3)),
 ];
 
 /// Randomized outside [`RANGES`]' table (its draw is [`Draw::Any`]).
@@ -195,6 +198,7 @@ pub fn randomize(current: &Params, locks: &Locks, rng: &mut Rng) -> Params {
                 let n = (spec.max - spec.min + 1.0) as u64;
                 spec.min + (rng.next_u64() % n) as f64
             }
+            Draw::FirstVariants(n) => spec.min + (rng.next_u64() % u64::from(n.max(1))) as f64,
             Draw::Any => {
                 let n = (spec.max - spec.min + 1.0) as u64;
                 spec.min + (rng.next_u64() % n) as f64
@@ -237,6 +241,7 @@ mod tests {
             Draw::Disk { r, .. } => (-r, r),
             Draw::DiskY => (-0.95, 0.95),
             Draw::AnyVariant | Draw::Any => (s.min, s.max),
+            Draw::FirstVariants(n) => (s.min, s.min + f64::from(n) - 1.0),
         }
     }
 
@@ -256,7 +261,7 @@ mod tests {
                     id.key()
                 );
                 id.spec().validate(v).unwrap();
-                if matches!(draw, Draw::AnyVariant) {
+                if matches!(draw, Draw::AnyVariant | Draw::FirstVariants(_)) {
                     seen_variants.insert((id as usize, v as i64));
                 }
             }
@@ -282,8 +287,11 @@ mod tests {
         }
         // Every variant of every enumeration comes up.
         let expected: usize = draws()
-            .filter(|(_, _, d)| matches!(d, Draw::AnyVariant))
-            .map(|(id, _, _)| (id.spec().max - id.spec().min + 1.0) as usize)
+            .map(|(id, _, d)| match d {
+                Draw::AnyVariant => (id.spec().max - id.spec().min + 1.0) as usize,
+                Draw::FirstVariants(n) => usize::from(n),
+                _ => 0,
+            })
             .sum();
         assert_eq!(seen_variants.len(), expected);
     }
