@@ -54,3 +54,16 @@ pub fn render(inst: &mut Instance, blocks: &[Block]) -> Vec<f32> {
     let [l, r] = inst.render(blocks).unwrap_or_else(|e| panic!("{e}"));
     l.iter().zip(&r).map(|(a, b)| 0.5 * (a + b)).collect()
 }
+
+/// nice-plug's state format: an 8-byte little-endian length, then JSON.
+pub fn state_json(state: &[u8]) -> String {
+    let len = u64::from_le_bytes(state[..8].try_into().unwrap()) as usize;
+    String::from_utf8(state[8..8 + len].to_vec()).expect("JSON state")
+}
+
+/// A state in nice-plug's format holding `json`.
+pub fn state_bytes(json: &str) -> Vec<u8> {
+    let mut out = (json.len() as u64).to_le_bytes().to_vec();
+    out.extend_from_slice(json.as_bytes());
+    out
+}

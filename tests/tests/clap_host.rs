@@ -18,7 +18,8 @@ use trundle_tests::{bundle, Block, Instance, ParamDesc, Transport};
 use clack_extensions::params::ParamInfoFlags;
 use clack_host::prelude::ClapId;
 use trundle_tests::check::{
-    first_difference, id, load_bundle, new_instance, peak, plain, render, rms,
+    first_difference, id, load_bundle, new_instance, peak, plain, render, rms, state_bytes,
+    state_json,
 };
 
 /// The lowest RMS any 250 ms window of a rolling ball may have in these tests: −60 dBFS.
@@ -652,18 +653,6 @@ fn deactivate_activate_cycles_and_sample_rate_changes_stay_finite() {
         inst.deactivate().unwrap();
     }
     assert!(!inst.restart_requested());
-}
-
-/// nice-plug's state format: an 8-byte little-endian length, then JSON.
-fn state_json(state: &[u8]) -> String {
-    let len = u64::from_le_bytes(state[..8].try_into().unwrap()) as usize;
-    String::from_utf8(state[8..8 + len].to_vec()).expect("JSON state")
-}
-
-fn state_bytes(json: &str) -> Vec<u8> {
-    let mut out = (json.len() as u64).to_le_bytes().to_vec();
-    out.extend_from_slice(json.as_bytes());
-    out
 }
 
 /// Replace the JSON value of `"key":` (up to the next `}` of its `{"f32":…}`) by `value`.

@@ -3,20 +3,10 @@
 
 use trundle_dsp::object::fitted;
 use trundle_dsp::preset::Preset;
-use trundle_tests::check::{first_difference, load_bundle, new_instance, render, rms};
+use trundle_tests::check::{
+    first_difference, load_bundle, new_instance, render, rms, state_bytes, state_json,
+};
 use trundle_tests::{Block, Instance, Transport};
-
-/// nice-plug's state format: an 8-byte little-endian length, then JSON.
-fn state_json(state: &[u8]) -> String {
-    let len = u64::from_le_bytes(state[..8].try_into().unwrap()) as usize;
-    String::from_utf8(state[8..8 + len].to_vec()).expect("JSON state")
-}
-
-fn state_bytes(json: &str) -> Vec<u8> {
-    let mut out = (json.len() as u64).to_le_bytes().to_vec();
-    out.extend_from_slice(json.as_bytes());
-    out
-}
 
 /// `text` as a JSON string literal.
 fn json_string(text: &str) -> String {
