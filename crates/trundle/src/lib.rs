@@ -218,7 +218,7 @@ impl Plugin for Trundle {
         // main thread so the first block already plays it.
         if let Some(v) = &mut self.voice {
             self.object_generation = self.params.object.generation();
-            drop(v.set_loaded_object(self.params.object.load()));
+            drop(v.set_loaded_object(self.params.object.load(self.object_generation)));
         }
         self.applied = None;
         // A few hundred samples of delay line: cheap to build at every activation. Its
@@ -270,7 +270,7 @@ impl Plugin for Trundle {
         let generation = self.params.object.generation();
         if generation != self.object_generation {
             self.object_generation = generation;
-            drop(voice.set_loaded_object(self.params.object.load()));
+            drop(voice.set_loaded_object(self.params.object.load(generation)));
         }
         let transport = context.transport();
         let rolling =

@@ -10,19 +10,23 @@
 //!
 //! ```text
 //!  editor / state / preset ──set()──► prepare LoadedObject (allocates, this thread)
-//!                                        │ publish: ArcSwap store + generation + 1
-//!  audio thread, every block:  generation changed? ──► load_full() (lock-free, no allocation)
+//!                                        │ publish: pointer store, then generation + 1
+//!  audio thread, every block:  generation changed? ──► load() (two atomic loads and a
+//!                                        │              reference count: no allocation)
 //!                                        └─► Voice::set_loaded_object (real-time safe)
 //! ```
 //!
-//! The previous object stays referenced here ("retired") until a later `set` sees that the
-//! audio thread has let it go, so the audio thread never frees memory. The object file's
+//! The slot publishes a raw pointer to an object it keeps alive itself: every object it ever
+//! published stays referenced here ("retired") until the audio thread has acknowledged a
+//! later generation (so it can no longer be reading that pointer) and holds no reference of
+//! its own — so the audio thread never frees memory and never reads a freed object. (A
+//! lock-free `Arc` swap crate was tried first: it allocates a per-thread record the first
+//! time a thread reads, which nice-plug's allocation check caught on the audio thread.) The object file's
 //! JSON is saved in the plugin's state (field `object`), so a session reopens with the same
 //! object even when the file is gone.
 
-use arc_swap::ArcSwapOption;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicPtr, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use trundle_dsp::object::fitted::{self, LoadedObject, ObjectFile};
 
@@ -47,8 +51,11 @@ pub enum FitStatus {
 struct Held {
     /// The object file (what the state saves), `None` for the recipe object.
     file: Option<ObjectFile>,
-    /// Prepared objects the audio thread may still hold.
-    retired: Vec<Arc<LoadedObject>>,
+    /// The published object (keeps the pointee of `published` alive).
+    current: Option<Arc<LoadedObject>>,
+    /// Objects published before, with the generation that replaced them: kept until the
+    /// audio thread has acknowledged that generation and let go of them.
+    retired: Vec<(u64, Arc<LoadedObject>)>,
 }
 
 /// The fitted object slot shared by the plugin, its editor and its state.
@@ -56,10 +63,12 @@ struct Held {
 pub struct ObjectSlot {
     /// Main/GUI/fit threads only (never locked by the audio thread).
     held: Mutex<Held>,
-    /// What the audio thread plays.
-    published: ArcSwapOption<LoadedObject>,
+    /// What the audio thread plays: `Arc::as_ptr` of `held.current`, null for the recipe.
+    published: AtomicPtr<LoadedObject>,
     /// Bumped after every publish; the audio thread compares it with the one it applied.
     generation: AtomicU64,
+    /// The last generation the audio thread applied ([`ObjectSlot::load`]).
+    acknowledged: AtomicU64,
     status: Mutex<FitStatus>,
 }
 
@@ -73,13 +82,23 @@ impl ObjectSlot {
             None => None,
         };
         let mut held = self.held.lock().unwrap_or_else(|e| e.into_inner());
-        // Objects only this slot still references can go (the audio thread has moved on).
-        held.retired.retain(|o| Arc::strong_count(o) > 1);
-        if let Some(old) = self.published.swap(prepared) {
-            held.retired.push(old);
+        let acknowledged = self.acknowledged.load(Ordering::Acquire);
+        // Objects the audio thread can no longer be reading (it has applied a later
+        // generation) and no longer holds (only this slot references them) can go.
+        held.retired
+            .retain(|(replaced_at, o)| *replaced_at > acknowledged || Arc::strong_count(o) > 1);
+        let next = self.generation.load(Ordering::Relaxed) + 1;
+        let ptr = prepared
+            .as_ref()
+            .map_or(std::ptr::null_mut(), |o| Arc::as_ptr(o).cast_mut());
+        if let Some(old) = std::mem::replace(&mut held.current, prepared) {
+            held.retired.push((next, old));
         }
         held.file = file;
-        self.generation.fetch_add(1, Ordering::Release);
+        // The pointer first, then the generation: a reader that sees the new generation
+        // sees the new pointer.
+        self.published.store(ptr, Ordering::Release);
+        self.generation.store(next, Ordering::Release);
         Ok(())
     }
 
@@ -134,9 +153,24 @@ impl ObjectSlot {
         self.generation.load(Ordering::Acquire)
     }
 
-    /// The object to play now (audio thread: lock-free, no allocation).
-    pub fn load(&self) -> Option<Arc<LoadedObject>> {
-        self.published.load_full()
+    /// The object of generation `generation` (from [`ObjectSlot::generation`]) to play now,
+    /// acknowledging it (audio thread: lock-free, no allocation).
+    pub fn load(&self, generation: u64) -> Option<Arc<LoadedObject>> {
+        let ptr = self.published.load(Ordering::Acquire);
+        let object = if ptr.is_null() {
+            None
+        } else {
+            // SAFETY: `ptr` came from `Arc::as_ptr` of an Arc this slot holds (`current`, or
+            // `retired` until a generation after the one that replaced it is acknowledged
+            // below, which happens only after this count is taken), so the pointee is alive
+            // and its count can be incremented and owned here.
+            unsafe {
+                Arc::increment_strong_count(ptr);
+                Some(Arc::from_raw(ptr))
+            }
+        };
+        self.acknowledged.fetch_max(generation, Ordering::Release);
+        object
     }
 
     /// The editor's status line.
@@ -254,12 +288,12 @@ mod tests {
     #[test]
     fn set_publishes_and_the_state_text_reads_back() {
         let slot = ObjectSlot::default();
-        assert!(slot.load().is_none());
+        assert!(slot.load(0).is_none());
         let g0 = slot.generation();
         let file = some_object();
         slot.set(Some(file.clone())).unwrap();
         assert!(slot.generation() > g0);
-        assert!(slot.load().is_some());
+        assert!(slot.load(slot.generation()).is_some());
         let text = slot.to_state_text().unwrap();
         let back = ObjectSlot::parse(&text).unwrap();
         assert_eq!(back.object.modes.len(), file.object.modes.len());
@@ -269,7 +303,7 @@ mod tests {
         again.set(Some(back)).unwrap();
         assert_eq!(again.to_state_text().unwrap(), text);
         slot.clear();
-        assert!(slot.load().is_none());
+        assert!(slot.load(slot.generation()).is_none());
         assert!(slot.to_state_text().is_none());
     }
 
@@ -285,7 +319,7 @@ mod tests {
         };
         assert!(slot.set(Some(bad)).is_err());
         assert_eq!(slot.generation(), g);
-        assert!(slot.load().is_some());
+        assert!(slot.load(g).is_some());
         for text in [
             "",
             "{",
@@ -300,17 +334,42 @@ mod tests {
     #[test]
     fn the_audio_thread_never_drops_the_last_reference() {
         let slot = ObjectSlot::default();
+        assert!(slot.load(0).is_none());
         slot.set(Some(some_object())).unwrap();
         // What the audio thread holds after applying the publish.
-        let held_by_voice = slot.load().unwrap();
+        let held_by_voice = slot.load(slot.generation()).unwrap();
         slot.set(None).unwrap();
-        // The voice lets go of it (set_loaded_object returns it and it is dropped there):
-        // the slot still holds a reference, so no memory is freed on the audio thread.
+        // Not yet acknowledged: the slot keeps its reference, so the voice's drop (when it
+        // lets go of the object) frees nothing on the audio thread.
         assert!(Arc::strong_count(&held_by_voice) >= 2);
+        assert!(slot.load(slot.generation()).is_none());
         drop(held_by_voice);
-        // The next publish lets the retired object go.
+        // Acknowledged and let go of: the next publish frees it (here, not on audio).
         slot.set(None).unwrap();
         assert!(slot.held.lock().unwrap().retired.is_empty());
+    }
+
+    #[test]
+    fn a_reader_between_two_publishes_keeps_a_live_object() {
+        // The audio thread read generation 1's pointer but has not acknowledged anything
+        // newer: the replaced object must stay alive whatever the GUI publishes meanwhile.
+        let slot = ObjectSlot::default();
+        slot.set(Some(some_object())).unwrap();
+        let g1 = slot.generation();
+        let first = slot.load(g1).unwrap();
+        for _ in 0..3 {
+            slot.set(Some(some_object())).unwrap();
+        }
+        assert!(!first.modes().is_empty(), "still alive and readable");
+        assert_eq!(slot.held.lock().unwrap().retired.len(), 3);
+        drop(first);
+        let latest = slot.load(slot.generation()).unwrap();
+        slot.set(None).unwrap();
+        // Everything older than the acknowledged generation and unreferenced is gone; the
+        // one the reader holds stays.
+        let held = slot.held.lock().unwrap();
+        assert_eq!(held.retired.len(), 1);
+        assert!(Arc::ptr_eq(&held.retired[0].1, &latest));
     }
 
     #[test]
