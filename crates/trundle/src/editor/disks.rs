@@ -609,7 +609,8 @@ impl TrundleEditor {
             Vec2::new(rest.width(), (22.0 * s).min(rest.height())),
         );
         let doc = ParamId::Trajectory.spec().doc;
-        widgets::selector(ui, control, trajectory, setter, false, doc, t);
+        // Six paths: a drop-down (a row of six pills would shrink their names unreadably).
+        widgets::dropdown(ui, control, "trajectory", trajectory, setter, doc, t);
         let knob = Rect::from_min_max(Pos2::new(strip.right() - knob_w, strip.top()), strip.max);
         widgets::knob(
             ui,

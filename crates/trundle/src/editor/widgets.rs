@@ -60,6 +60,38 @@ pub fn set_once<P: Param>(setter: &ParamSetter, param: &P, plain: P::Plain) {
     setter.end_set_parameter(param);
 }
 
+/// A drop-down list for an enumeration with too many names for a row of pills (the
+/// trajectory): the current name, and the list on a click; a choice is one host gesture.
+pub fn dropdown(
+    ui: &mut egui::Ui,
+    rect: Rect,
+    id_salt: &str,
+    param: &IntParam,
+    setter: &ParamSetter,
+    doc: &str,
+    t: &Theme,
+) {
+    let lo = param.preview_plain(0.0);
+    let hi = param.preview_plain(1.0);
+    let current = param.unmodulated_plain_value();
+    let name = |v: i32| param.normalized_value_to_string(param.preview_normalized(v), true);
+    ui.scope_builder(egui::UiBuilder::new().max_rect(rect), |ui| {
+        ui.spacing_mut().interact_size.y = rect.height();
+        egui::ComboBox::from_id_salt(id_salt)
+            .selected_text(name(current))
+            .width(rect.width() - 8.0 * t.scale)
+            .show_ui(ui, |ui| {
+                for v in lo..=hi {
+                    if ui.selectable_label(v == current, name(v)).clicked() && v != current {
+                        set_once(setter, param, v);
+                    }
+                }
+            })
+            .response
+            .on_hover_text(doc);
+    });
+}
+
 /// A point on a circle of radius `r` around `c` at screen angle `a`.
 fn polar(c: Pos2, r: f32, a: f32) -> Pos2 {
     c + Vec2::new(a.cos(), a.sin()) * r
