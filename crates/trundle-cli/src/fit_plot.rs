@@ -7,8 +7,8 @@
 
 use crate::atomic::TempFile;
 use crate::error::{failure, quote, CliError};
-use realfft::RealFftPlanner;
 use std::path::Path;
+use trundle_dsp::fit::envelope::stft_power;
 
 /// Picture size (pixels).
 pub const SIZE: (u32, u32) = (1200, 520);
@@ -24,33 +24,14 @@ const TICKS_HZ: [f64; 9] = [
     50.0, 100.0, 200.0, 500.0, 1000.0, 2000.0, 5000.0, 10_000.0, 20_000.0,
 ];
 
-/// Short-time power spectra in dB (Hann, ≈ 21 ms frames, hop ¼): (frames × bins, frame
-/// length, hop).
+/// Short-time power spectra in dB (Hann, ≈ 21 ms frames, hop ¼: the fit's own STFT,
+/// [`trundle_dsp::fit::envelope::stft_power`]): (frames × bins, frame length, hop).
 fn stft_db(x: &[f64], fs: f64) -> (Vec<Vec<f64>>, usize, usize) {
-    let len = ((0.021 * fs) as usize).next_power_of_two().max(64);
-    let hop = len / 4;
-    let mut planner = RealFftPlanner::<f64>::new();
-    let fft = planner.plan_fft_forward(len);
-    let win: Vec<f64> = (0..len)
-        .map(|i| 0.5 - 0.5 * (core::f64::consts::TAU * i as f64 / len as f64).cos())
-        .collect();
-    let mut buf = fft.make_input_vec();
-    let mut spec = fft.make_output_vec();
-    let mut out = Vec::new();
-    let mut start = 0;
-    while start < x.len() {
-        for (i, b) in buf.iter_mut().enumerate() {
-            *b = x.get(start + i).copied().unwrap_or(0.0) * win[i];
-        }
-        fft.process(&mut buf, &mut spec).expect("FFT sizes match");
-        out.push(
-            spec.iter()
-                .map(|c| 10.0 * c.norm_sqr().max(1e-30).log10())
-                .collect(),
-        );
-        start += hop;
+    let (mut frames, len, hop) = stft_power(x, fs, 4);
+    for v in frames.iter_mut().flatten() {
+        *v = 10.0 * v.max(1e-30).log10();
     }
-    (out, len, hop)
+    (frames, len, hop)
 }
 
 /// A dark-to-bright colour for u ∈ [0, 1] (black, purple, red, orange, pale yellow).

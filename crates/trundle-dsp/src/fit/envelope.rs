@@ -11,12 +11,14 @@ use realfft::RealFftPlanner;
 
 pub use crate::object::fitted::EnvelopeBand;
 
-/// Short-time power spectra: (frames × bins, frame length, hop).
-fn stft(x: &[f64], sample_rate_hz: f64) -> (Vec<Vec<f64>>, usize, usize) {
+/// Short-time power spectra |X|² (Hann frames of ≈ 21 ms, a power of two of at least 64
+/// samples, hop = frame / `overlap`; the last frames zero-padded): (frames × bins, frame
+/// length, hop). The envelope fit uses overlap 2; `trundle fit-object --plot` draws them.
+pub fn stft_power(x: &[f64], sample_rate_hz: f64, overlap: usize) -> (Vec<Vec<f64>>, usize, usize) {
     let len = ((0.021 * sample_rate_hz) as usize)
         .next_power_of_two()
         .max(64);
-    let hop = len / 2;
+    let hop = (len / overlap.max(1)).max(1);
     let mut planner = RealFftPlanner::<f64>::new();
     let fft = planner.plan_fft_forward(len);
     let win: Vec<f64> = (0..len)
@@ -45,7 +47,7 @@ pub fn third_octave_envelope(
     sample_rate_hz: f64,
 ) -> Vec<EnvelopeBand> {
     let fs = sample_rate_hz;
-    let (frames, len, hop) = stft(residual, fs);
+    let (frames, len, hop) = stft_power(residual, fs, 2);
     let total: f64 = signal.iter().map(|v| v * v).sum::<f64>().max(1e-300);
     let bin_hz = fs / len as f64;
     let frame_s = hop as f64 / fs;
@@ -120,7 +122,7 @@ pub fn third_octave_envelope(
 /// floored 100 dB under its own maximum (so that silence in both does not count).
 pub fn log_spectral_distance_db(a: &[f64], b: &[f64], sample_rate_hz: f64) -> f64 {
     let avg = |x: &[f64]| {
-        let (frames, len, _) = stft(x, sample_rate_hz);
+        let (frames, len, _) = stft_power(x, sample_rate_hz, 2);
         let mut p = vec![0.0; len / 2 + 1];
         for f in &frames {
             for (acc, v) in p.iter_mut().zip(f) {
