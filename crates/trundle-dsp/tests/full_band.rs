@@ -16,7 +16,8 @@
 //! velocity low-pass: issue #17's contact model), not the object's.
 
 use realfft::RealFftPlanner;
-use trundle_dsp::events::{process_stereo_with_events, Scene};
+mod scene;
+use scene::render_scene;
 use trundle_dsp::object::Quality;
 use trundle_dsp::params::ParamEnum;
 use trundle_dsp::preset::{Preset, BUILTIN_PRESETS};
@@ -37,24 +38,7 @@ fn render(preset: &Preset, tweak: impl Fn(&mut Params), high_band: bool) -> (Vec
         voice.reset();
     }
     voice.set_high_band(high_band);
-    let notes = preset.note_events(FS);
-    let mut scene = Scene::new(params, &preset.automation, &notes, FS);
-    let n = (SECONDS * FS) as usize;
-    let (mut l, mut r) = (vec![0f32; n], vec![0f32; n]);
-    let block = 4096;
-    let mut done = 0;
-    while done < n {
-        let len = block.min(n - done);
-        let events = scene.events(done as u64, len);
-        process_stereo_with_events(
-            &mut voice,
-            &mut l[done..done + len],
-            &mut r[done..done + len],
-            events,
-            |_, _, _, _| {},
-        );
-        done += len;
-    }
+    let (l, r) = render_scene(&mut voice, preset, params, (SECONDS * FS) as usize, FS);
     (l, r)
 }
 

@@ -3,7 +3,10 @@
 //! full note velocity on the default scene, by the level law for summed balls
 //! (`trundle_dsp::balls`), and the safety limiter rarely has anything to do.
 
-use trundle_dsp::events::{process_stereo_with_events, Scene, TimedEvent, VoiceEvent};
+use trundle_dsp::events::{process_stereo_with_events, TimedEvent, VoiceEvent};
+
+mod scene;
+use scene::render_scene;
 use trundle_dsp::preset::{Preset, BUILTIN_PRESETS};
 use trundle_dsp::{Params, Voice};
 
@@ -16,23 +19,8 @@ fn db(x: f64) -> f64 {
 /// Peak and RMS (dBFS) over both channels of a preset rendered for `seconds`.
 fn preset_levels(preset: &Preset, seconds: f64) -> (f64, f64) {
     let mut voice = preset.new_voice(FS);
-    let notes = preset.note_events(FS);
-    let mut scene = Scene::new(preset.params, &preset.automation, &notes, FS);
     let n = (seconds * FS) as usize;
-    let (mut l, mut r) = (vec![0f32; n], vec![0f32; n]);
-    let mut done = 0;
-    while done < n {
-        let len = 4096.min(n - done);
-        let ev = scene.events(done as u64, len);
-        process_stereo_with_events(
-            &mut voice,
-            &mut l[done..done + len],
-            &mut r[done..done + len],
-            ev,
-            |_, _, _, _| {},
-        );
-        done += len;
-    }
+    let (l, r) = render_scene(&mut voice, preset, preset.params, n, FS);
     let peak = l.iter().chain(&r).fold(0f32, |m, v| m.max(v.abs()));
     let ms = l
         .iter()
@@ -97,27 +85,14 @@ fn the_limiter_rarely_acts() {
             voice.reset();
         }
         let n = (6.0 * FS) as usize;
-        let (mut l, mut r) = (vec![0f32; n], vec![0f32; n]);
-        match preset {
-            Some(pr) => {
-                let notes = pr.note_events(FS);
-                let mut scene = Scene::new(*p, &pr.automation, &notes, FS);
-                let mut done = 0;
-                while done < n {
-                    let len = 4096.min(n - done);
-                    let ev = scene.events(done as u64, len);
-                    process_stereo_with_events(
-                        &mut voice,
-                        &mut l[done..done + len],
-                        &mut r[done..done + len],
-                        ev,
-                        |_, _, _, _| {},
-                    );
-                    done += len;
-                }
+        let (mut l, mut r) = match preset {
+            Some(pr) => render_scene(&mut voice, pr, *p, n, FS),
+            None => {
+                let (mut l, mut r) = (vec![0f32; n], vec![0f32; n]);
+                voice.process_stereo(&mut l, &mut r);
+                (l, r)
             }
-            None => voice.process_stereo(&mut l, &mut r),
-        }
+        };
         let mut lim = Limiter::new(FS);
         lim.process_stereo(&mut l, &mut r);
         lim.touched() as f64 / n as f64
