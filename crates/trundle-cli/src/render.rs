@@ -283,11 +283,6 @@ pub fn load_object(path: &Path) -> Result<Arc<LoadedObject>, CliError> {
 /// file.
 pub(crate) type TakeOverride = (u64, Vec<String>, PathBuf);
 
-/// The plan of `args` (a take of `--variations` when `take` is given).
-pub(crate) fn plan_for(args: &RenderArgs, take: Option<TakeOverride>) -> Result<Plan, CliError> {
-    plan(args, take)
-}
-
 /// The peak ceiling of `--normalize-db` (dBFS).
 pub(crate) fn normalize_ceiling_db(args: &RenderArgs) -> Result<f64, CliError> {
     match &args.normalize_db {
@@ -296,7 +291,8 @@ pub(crate) fn normalize_ceiling_db(args: &RenderArgs) -> Result<f64, CliError> {
     }
 }
 
-fn plan(args: &RenderArgs, take: Option<TakeOverride>) -> Result<Plan, CliError> {
+/// The plan of `args` (a take of `--variations` when `take` is given).
+pub(crate) fn plan(args: &RenderArgs, take: Option<TakeOverride>) -> Result<Plan, CliError> {
     let (take_seed, take_sets, take_output) = match take {
         Some((seed, sets, path)) => (Some(seed), sets, Some(path)),
         None => (None, Vec::new(), None),

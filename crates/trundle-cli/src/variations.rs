@@ -175,7 +175,7 @@ pub fn run(args: &RenderArgs, count_text: &str) -> Result<String, CliError> {
         .map(|j| parse_jitter(j))
         .collect::<Result<_, _>>()?;
     // The scene as the plain command would render it: its seed, values and checks.
-    let base = render::plan_for(args, None)?;
+    let base = render::plan(args, None)?;
     let base_seed = base.params.get(ParamId::Seed) as u64;
     let seed_span = ParamId::Seed.spec().max as u64 + 1;
     let bytes_per_take = base.frames * u64::from(base.channels) * 4;
@@ -214,7 +214,7 @@ pub fn run(args: &RenderArgs, count_text: &str) -> Result<String, CliError> {
             jittered.push((spec.key, x));
         }
         let path = take_path(&args.output, k + 1, count, seed, &base.preset_name);
-        let plan = render::plan_for(args, Some((seed, sets, path.clone())))?;
+        let plan = render::plan(args, Some((seed, sets, path.clone())))?;
         plans.push((plan, jittered, path, seed));
     }
 

@@ -206,6 +206,15 @@ impl Gestures {
     }
 }
 
+/// Append `id` to the ended list (dropped when the list is full: the host then frees the
+/// voice itself). A free function so the chunk loop can call it while it holds the balls.
+fn push_ended(ended: &mut [BallId], count: &mut usize, id: BallId) {
+    if let Some(slot) = ended.get_mut(*count) {
+        *slot = id;
+        *count += 1;
+    }
+}
+
 /// The level law's gain for `rolling` balls: 1/√N (1 for none or one).
 pub fn level_for_balls(rolling: usize) -> f64 {
     1.0 / (rolling.max(1) as f64).sqrt()
@@ -320,10 +329,7 @@ impl BallPool {
     }
 
     fn record_ended(&mut self, id: BallId) {
-        if self.ended_count < self.ended.len() {
-            self.ended[self.ended_count] = id;
-            self.ended_count += 1;
-        }
+        push_ended(&mut self.ended, &mut self.ended_count, id);
     }
 
     /// Hand every ball that ended since the last call to `f` (came to rest after its note
@@ -569,10 +575,7 @@ impl BallPool {
                 if b.rest_samples as f64 >= RELEASE_S * self.fs {
                     b.active = false;
                     self.count -= 1;
-                    if self.ended_count < self.ended.len() {
-                        self.ended[self.ended_count] = b.id;
-                        self.ended_count += 1;
-                    }
+                    push_ended(&mut self.ended, &mut self.ended_count, b.id);
                 }
             }
         }
