@@ -27,6 +27,11 @@ fn bench_json_has_every_timing() {
     let source = get("source_ns_per_sample");
     let scene = get("scene16_ns_per_sample");
     get("balls16_ns_per_sample");
+    // A crowd of 1000 balls costs more than one ball and runs faster than real time even
+    // in a quick, disturbed run (its target, ×2, is judged by a full run; here ×1, loose).
+    let crowd = get("balls_1000_ns_per_sample");
+    assert!(crowd > voice * 0.5, "crowd {crowd} ns vs voice {voice} ns");
+    assert!(get("balls_1000_realtime_factor") > 1.0);
     get("idle_ns_per_sample");
     get("voice_realtime_factor");
     get("voices_per_core");

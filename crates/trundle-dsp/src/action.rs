@@ -643,6 +643,17 @@ fn draws_power(
     (energy / t - (area / t) * (area / t)).max(0.0)
 }
 
+/// One series' ARMA(1,1) filter state (TASLP eqs 8–9: the coloured parts of Aⁿ and Δⁿ_T
+/// and their last inputs), for drawing several independent series from one
+/// [`ActionSeries`] ([`ActionSeries::next_impact_with`]). The default is the zero state.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SeriesState {
+    c_a: f64,
+    c_dt: f64,
+    prev_xa: f64,
+    prev_xdt: f64,
+}
+
 /// The impact-series generator for any point of the action disk (CMJ Fig. 7).
 ///
 /// At a pure prototype (one weight 1) it samples the density exactly (no table); at the roll
@@ -852,6 +863,32 @@ impl ActionSeries {
             self.prev_xdt = 0.0;
         }
         (p.mean_a + self.c_a, p.mean_dt_s + self.c_dt)
+    }
+
+    /// Draw the next impact of another series that shares these parameters and this
+    /// generator but keeps its own ARMA(1,1) filter state (TASLP eqs 8–9): `state` is
+    /// advanced instead of this series' own. Many independent balls of one scene
+    /// ([`crate::crowd`]) draw this way from one set of densities. Real-time safe.
+    pub fn next_impact_with(&mut self, state: &mut SeriesState) -> ActionStep {
+        let own = self.state();
+        self.set_state(*state);
+        let step = self.next_impact();
+        *state = self.state();
+        self.set_state(own);
+        step
+    }
+
+    fn state(&self) -> SeriesState {
+        SeriesState {
+            c_a: self.c_a,
+            c_dt: self.c_dt,
+            prev_xa: self.prev_xa,
+            prev_xdt: self.prev_xdt,
+        }
+    }
+
+    fn set_state(&mut self, s: SeriesState) {
+        (self.c_a, self.c_dt, self.prev_xa, self.prev_xdt) = (s.c_a, s.c_dt, s.prev_xa, s.prev_xdt);
     }
 
     /// Draw the next impact.

@@ -113,6 +113,7 @@ pub mod action;
 pub mod analysis;
 pub mod balls;
 pub mod contact;
+pub mod crowd;
 pub mod dcblock;
 pub mod disk;
 pub mod engine;

@@ -231,6 +231,17 @@ pub struct Source {
 impl Source {
     /// A source at `sample_rate_hz` (sanitized to 8–384 kHz) with the given seed.
     pub fn new(sample_rate_hz: f64, controls: SourceControls, seed: u64) -> Self {
+        Self::with_log_capacity(sample_rate_hz, controls, seed, IMPACT_LOG_CAPACITY)
+    }
+
+    /// [`new`](Self::new) with an impact log of `log_capacity` records (a crowd's balls,
+    /// whose impacts are never reported, keep one).
+    pub fn with_log_capacity(
+        sample_rate_hz: f64,
+        controls: SourceControls,
+        seed: u64,
+        log_capacity: usize,
+    ) -> Self {
         let fs = crate::sanitize_sample_rate(sample_rate_hz);
         let mut s = Self {
             fs,
@@ -269,7 +280,7 @@ impl Source {
             action_age: 0,
             level_age: 0,
             action_stale: false,
-            log: ImpactLog::new(),
+            log: ImpactLog::with_capacity(log_capacity),
         };
         s.set_controls(controls);
         s.reset();

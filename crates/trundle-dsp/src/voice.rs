@@ -23,6 +23,7 @@
 //! 8192.
 
 use crate::balls::{BallId, BallPool, BallTarget, Expression};
+use crate::crowd::{Crowd, CrowdControls, MAX_DETAIL};
 use crate::dcblock::DcBlock;
 use crate::engine_mix::EngineMix;
 use crate::gesture::{Gesture, GestureControls, PulseScale};
@@ -79,6 +80,8 @@ pub struct Voice {
     balls: BallPool,
     /// The level law's gain on the summed force ([`crate::balls::level_for_balls`]).
     ball_level: Smoother,
+    /// The scene's crowd: balls 1…N−1 rolling with the scene's ball ([`crate::crowd`]).
+    crowd: Crowd,
     /// The gesture: drop, spin, seams, paths with gravity ([`crate::gesture`]).
     gesture: Gesture,
     /// The last chunk's force and DC-blocked force were exactly zero (the DC blocker's
@@ -108,6 +111,14 @@ fn space_controls(p: &Params) -> SpaceControls {
         trajectory: p.trajectory(),
         size_m: p.get(ParamId::ObjectSize),
         velocity: p.get(ParamId::Velocity),
+    }
+}
+
+fn crowd_controls(p: &Params) -> CrowdControls {
+    CrowdControls {
+        count: p.get(ParamId::Crowd).round() as usize,
+        spread: p.get(ParamId::CrowdSpread),
+        detail: p.get(ParamId::CrowdDetail).round() as usize,
     }
 }
 
@@ -160,6 +171,7 @@ impl Voice {
             engines: EngineMix::new(fs, params),
             balls: BallPool::new(fs),
             ball_level: Smoother::new(1.0),
+            crowd: Crowd::new(fs, MAX_DETAIL, seed),
             gesture: Gesture::new(fs, GestureControls::from_params(params), seed),
             quiet: false,
         };
@@ -170,6 +182,7 @@ impl Voice {
             t.set_controls(object_controls(params));
         }
         v.balls.set_gesture(GestureControls::from_params(params));
+        v.crowd.set_controls(crowd_controls(params));
         v.reset();
         v
     }
@@ -236,6 +249,7 @@ impl Voice {
         self.space.set_sample_rate(self.fs);
         self.dc.set_sample_rate(self.fs);
         self.balls.set_sample_rate(self.fs);
+        self.crowd.set_sample_rate(self.fs);
         self.balls
             .set_gesture(GestureControls::from_params(&self.params));
         self.object.set_sample_rate(self.fs);
@@ -256,6 +270,7 @@ impl Voice {
         self.space.reset();
         self.dc.reset();
         self.balls.reset(self.seed);
+        self.crowd.reset(self.seed);
         self.ball_level.snap(1.0);
         self.object.reset();
         for (t, d) in self.twins.iter_mut().zip(&mut self.twin_dc) {
@@ -299,6 +314,10 @@ impl Voice {
             self.source.set_seed(seed);
         }
         self.engines.set_params(params, seed_changed);
+        self.crowd.set_controls(crowd_controls(params));
+        if seed_changed {
+            self.crowd.reset(seed);
+        }
         self.gesture
             .set_controls(GestureControls::from_params(params));
         self.balls.set_gesture(GestureControls::from_params(params));
@@ -489,6 +508,12 @@ impl Voice {
         if !self.started {
             self.apply_gesture();
             self.source.snap_controls();
+            self.crowd.snap_controls(self.crowd_scene());
+            if self.params.velocity() > 0.0 {
+                // A crowd starts at its level (`balls`' law), not gliding down from one ball's.
+                let rolling = self.balls.active() + self.crowd.count();
+                self.ball_level.snap(crate::balls::level_for_balls(rolling));
+            }
             self.space.snap_controls();
             self.object.snap_controls();
             for t in &mut self.twins {
@@ -499,6 +524,16 @@ impl Voice {
             self.engines.snap();
             self.started = true;
         }
+    }
+
+    /// The scene's controls as the crowd follows them: the scene ball's, at the gesture's
+    /// rolling speed.
+    fn crowd_scene(&self) -> SourceControls {
+        let mut sc = source_controls(&self.params);
+        if !self.gesture.is_neutral() {
+            sc.velocity = (sc.velocity * self.gesture.rolling_factor()).clamp(0.0, 1.0);
+        }
+        sc
     }
 
     /// How the gesture's impacts become pulses: the source's contact and level in force.
@@ -514,6 +549,7 @@ impl Voice {
             && signal_only
             && self.gesture.is_idle()
             && self.balls.active() == 0
+            && self.crowd.is_idle()
             && self.source.is_idle()
             && self.space.is_idle()
             && self.object.is_idle()
@@ -547,8 +583,20 @@ impl Voice {
             let (sc, pc) = (source_controls(&self.params), space_controls(&self.params));
             self.balls.add_chunk(&mut self.force, sc, pc);
         }
-        // The level law for summed balls (`balls`): N rolling balls at 1/√N each.
-        let rolling = self.balls.active() + usize::from(self.params.velocity() > 0.0);
+        if self.crowd.count() > 1 || !self.crowd.is_idle() {
+            // The crowd rolls with the scene's ball (`crowd`): its force joins here, at the
+            // scene ball's place.
+            let sc = self.crowd_scene();
+            self.crowd.add_chunk(&mut self.force, sc);
+        }
+        // The level law for summed balls (`balls`): N rolling balls at 1/√N each (the
+        // scene's ball counts with its crowd).
+        let scene_balls = if self.params.velocity() > 0.0 {
+            self.crowd.count()
+        } else {
+            0
+        };
+        let rolling = self.balls.active() + scene_balls;
         self.ball_level
             .set_target(crate::balls::level_for_balls(rolling));
         if self.ball_level.is_moving() || self.ball_level.value() != 1.0 {
@@ -565,6 +613,7 @@ impl Voice {
             && self.source.at_rest()
             && self.gesture.is_idle()
             && self.balls.active() == 0
+            && self.crowd.is_idle()
             && self.object.is_silent()
         {
             // Silence skip (docs/MODEL.md "Speed and accuracy"): the ball at rest on the signal

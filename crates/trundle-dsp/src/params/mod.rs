@@ -111,6 +111,12 @@ pub enum ParamId {
     PathTimeS,
     /// Loose grit on the surface.
     Grit,
+    /// Balls rolling together, the scene's ball included ([`crate::crowd`]).
+    Crowd,
+    /// Scatter of the crowd's sizes and speeds.
+    CrowdSpread,
+    /// Crowd balls that run a whole source; the rest share one impact process.
+    CrowdDetail,
 }
 
 /// A parameter whose value is one of a few named variants (shape, output, engine…).

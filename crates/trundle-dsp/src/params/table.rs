@@ -18,7 +18,7 @@ const PERCENT: ParamKind = ParamKind::Float {
 };
 
 /// Number of parameters.
-pub const PARAM_COUNT: usize = 37;
+pub const PARAM_COUNT: usize = 40;
 
 /// The parameter table, indexed by [`ParamId`].
 pub const PARAMS: [ParamSpec; PARAM_COUNT] = [
@@ -428,5 +428,38 @@ ParamSpec {
         default: 0.0,
         kind: PERCENT,
         doc: "Loose grit on the surface: grains scattered at random along the path (400 per metre at 1), each an extra impact of random strength proportional to the speed, so their rate is proportional to grit and speed; 0 = a clean surface",
+    },
+    ParamSpec {
+        id: ParamId::Crowd,
+        key: "crowd",
+        name: "Crowd",
+        unit: "",
+        min: 1.0,
+        max: 1000.0,
+        default: 1.0,
+        kind: ParamKind::Int,
+        doc: "How many balls roll together on the object, the scene's ball included (gravel poured, a bag of marbles, bearings in a drum); sizes and speeds scatter around size and velocity by crowd_spread; the level law keeps a crowd as loud as one ball; 1 = the one ball (docs/MODEL.md §12)",
+    },
+    ParamSpec {
+        id: ParamId::CrowdSpread,
+        key: "crowd_spread",
+        name: "Crowd spread",
+        unit: "",
+        min: 0.0,
+        max: 1.0,
+        default: 0.5,
+        kind: PERCENT,
+        doc: "How much the crowd's balls differ: ln size and ln speed scatter with standard deviation 0.35 x spread around the scene's (at 1, 95 % within x0.5 to x2); 0 = identical balls",
+    },
+    ParamSpec {
+        id: ParamId::CrowdDetail,
+        key: "crowd_detail",
+        name: "Crowd detail",
+        unit: "",
+        min: 0.0,
+        max: 16.0,
+        default: 8.0,
+        kind: ParamKind::Int,
+        doc: "Speed/accuracy: how many of the crowd's loudest balls run a whole source (own series, AM, low-pass); the others are merged into one Poisson impact process of their summed rate, which costs per impact, not per ball",
     },
 ];

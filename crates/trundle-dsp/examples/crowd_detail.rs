@@ -1,0 +1,102 @@
+//! The crowd's level-of-detail trade, measured (README "A thousand balls"):
+//! `cargo run --release -p trundle-dsp --example crowd_detail`.
+//!
+//! For crowds of 64 and 1000 balls (spread 0.5, the default scene), the crowd's force is
+//! rendered with every ball a whole source (the reference: `Crowd::new` with room for all
+//! of them) and at `crowd_detail` 0, 4, 8 and 16; it prints the cost (ns per output sample of
+//! the crowd's force alone, best of three) and the worst third-octave difference from the
+//! reference, 100 Hz–12.5 kHz (dB).
+
+use std::time::Instant;
+use trundle_dsp::crowd::{Crowd, CrowdControls};
+use trundle_dsp::source::SourceControls;
+use trundle_dsp::CHUNK;
+
+const FS: f64 = 48_000.0;
+const SECONDS: f64 = 10.0;
+
+fn render(count: usize, detail: usize, max_detail: usize) -> (Vec<f32>, f64) {
+    let sc = SourceControls::default();
+    let mut best = f64::INFINITY;
+    let mut y = Vec::new();
+    for _ in 0..3 {
+        let mut c = Crowd::new(FS, max_detail, 7);
+        c.set_controls(CrowdControls {
+            count,
+            spread: 0.5,
+            detail,
+        });
+        c.snap_controls(sc);
+        // Let every ball join (at most 64 a chunk) before timing.
+        let mut warm = [0.0f32; CHUNK];
+        for _ in 0..32 {
+            warm.fill(0.0);
+            c.add_chunk(&mut warm, sc);
+        }
+        y = vec![0.0f32; (SECONDS * FS) as usize / CHUNK * CHUNK];
+        let t = Instant::now();
+        for b in y.chunks_mut(CHUNK) {
+            c.add_chunk(b, sc);
+        }
+        best = best.min(t.elapsed().as_nanos() as f64 / y.len() as f64);
+    }
+    (y, best)
+}
+
+fn third_octaves(y: &[f32]) -> Vec<f64> {
+    use realfft::RealFftPlanner;
+    let n = 4096;
+    let fft = RealFftPlanner::<f64>::new().plan_fft_forward(n);
+    let mut power = vec![0.0; n / 2 + 1];
+    for w in y.chunks_exact(n) {
+        let mut buf: Vec<f64> = w
+            .iter()
+            .enumerate()
+            .map(|(i, &x)| {
+                let h = 0.5 - 0.5 * (2.0 * std::f64::consts::PI * i as f64 / n as f64).cos();
+                f64::from(x) * h
+            })
+            .collect();
+        let mut spec = fft.make_output_vec();
+        fft.process(&mut buf, &mut spec).unwrap();
+        for (p, z) in power.iter_mut().zip(&spec) {
+            *p += z.norm_sqr();
+        }
+    }
+    (0..=21)
+        .map(|k| {
+            let fc = 100.0 * 2f64.powf(k as f64 / 3.0);
+            let (lo, hi) = (fc * 2f64.powf(-1.0 / 6.0), fc * 2f64.powf(1.0 / 6.0));
+            let (sum, count) = (0..power.len())
+                .filter(|&i| (lo..hi).contains(&(i as f64 * FS / n as f64)))
+                .fold((0.0, 0), |(s, c), i| (s + power[i], c + 1));
+            10.0 * (sum / f64::from(count.max(1))).log10()
+        })
+        .collect()
+}
+
+fn main() {
+    println!("| balls | crowd_detail | ns/sample (crowd force) | × real time | worst third-octave difference (dB) |");
+    println!("|---:|---:|---:|---:|---:|");
+    for count in [64, 1000] {
+        let (reference, ref_ns) = render(count, count - 1, count - 1);
+        let bands = third_octaves(&reference);
+        println!(
+            "| {count} | all ({}) | {ref_ns:.0} | {:.1} | 0 (reference) |",
+            count - 1,
+            1e9 / FS / ref_ns
+        );
+        for detail in [16, 8, 4, 0] {
+            let (y, ns) = render(count, detail, 16);
+            let worst = bands
+                .iter()
+                .zip(third_octaves(&y))
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max);
+            println!(
+                "| {count} | {detail} | {ns:.0} | {:.1} | {worst:.2} |",
+                1e9 / FS / ns
+            );
+        }
+    }
+}
