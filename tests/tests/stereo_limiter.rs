@@ -293,3 +293,30 @@ fn without_the_limiter_loud_balls_stay_finite_and_never_subnormal() {
         }
     }
 }
+
+/// A crowd of 1000 balls (#16) in the plugin: the count is the parameter's range, so the
+/// plugin plays every crowd the CLI renders. Poured in by automation from 1 to 1000 and
+/// back while sixteen MIDI balls roll too: finite, sounding, under the limiter's ceiling,
+/// and — the debug bundle aborts on any allocation in `process` — allocation-free.
+#[test]
+fn a_crowd_of_a_thousand_balls_pours_in_through_the_plugin() {
+    let b = load_bundle();
+    let mut inst = new_instance(&b);
+    inst.activate(48_000.0, 1024).unwrap();
+    let total = 3 * 48_000;
+    let mut blocks = script(total, 1024, 7, &[], &sixteen_notes());
+    let mut at = 0;
+    for block in &mut blocks {
+        // Up over the first second, held, down over the last: a pour.
+        let t = at as f64 / 48_000.0;
+        let count = (1000.0 * t.min(1.0).min(3.0 - t).max(0.0)).max(1.0).round();
+        let v = plain(&mut inst, "crowd", count);
+        block.events.push((0, id("crowd"), v));
+        at += block.len;
+    }
+    let [l, r] = render_lr(&mut inst, &blocks);
+    let p = peak(&l).max(peak(&r));
+    assert!(p <= ceiling(), "peak {:.2} dBFS", db(p));
+    let middle = &l[48_000..96_000];
+    assert!(peak(middle) > 1e-3, "the crowd sounds");
+}
