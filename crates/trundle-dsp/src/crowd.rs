@@ -38,6 +38,14 @@
 //!   octaves and a 100-ball crowd 3.6 dB too loud overall; the superposition of the balls'
 //!   own series is within 1.5 dB in every band (tests/crowd.rs).
 //!
+//! **Impact budget.** A merged ball costs per impact, and a rub makes tens of thousands of
+//! impacts a second per ball: a thousand rubbing balls would make ~5·10⁷. The merged process
+//! makes at most [`MAX_MERGED_IMPACTS_PER_S`]: beyond it only the loudest K of the M merged
+//! balls play, louder by √(W_M/W_K) (W: their summed power L²·G²) — independent balls add in
+//! power, so the crowd keeps its expected spectrum and level (measured within 0.3 dB for a
+//! thousand rubbing balls), and such dense contact is noise-like already. Rolling crowds stay
+//! under the budget (a thousand rolling balls make about 210 000 impacts a second).
+//!
 //! Cost: a detailed ball costs a whole source (~12 ns a sample); a merged ball costs a
 //! compare per chunk and, per impact, one series draw and one pulse — a thousand balls at
 //! the default scene run ~20× faster than real time with the object (`trundle bench`,
@@ -77,6 +85,10 @@ pub const MAX_DETAIL: usize = 16;
 /// a crowd's balls roll at different speeds, so their low-passes' cutoffs f_c(Vᵢ) differ
 /// by up to ×4 at full spread, and no single two-pole skirt has the sum of theirs.
 pub const SPEED_GROUPS: usize = 4;
+
+/// Most impacts a second the merged process makes (module docs: the impact budget). A
+/// thousand rolling balls make about 210 000; a rub, tens of thousands per ball.
+pub const MAX_MERGED_IMPACTS_PER_S: f64 = 400_000.0;
 
 /// How far the spread control scatters sizes and speeds: the standard deviation of ln Sᵢ/S
 /// and ln Vᵢ/V at spread 1.
@@ -191,6 +203,10 @@ pub struct Crowd {
     /// (V, assignment) it was computed for.
     merged_cutoff_hz: [f64; SPEED_GROUPS],
     merged_cutoff_at: (f64, f64),
+    /// The impact budget: balls played and their gain, and (rate, members, spread) it was
+    /// computed for.
+    budget: (usize, f64),
+    budget_at: [f64; 3],
     merged: Merged,
     size: Smoother,
     velocity: Smoother,
@@ -233,6 +249,8 @@ impl Crowd {
             merged_count: 0,
             merged_cutoff_hz: [cutoff_hz(scene.velocity); SPEED_GROUPS],
             merged_cutoff_at: (f64::NAN, f64::NAN),
+            budget: (0, 1.0),
+            budget_at: [f64::NAN; 3],
             merged: Merged {
                 series: ActionSeries::new(params, 0),
                 states: vec![SeriesState::default(); MAX_CROWD],
@@ -376,6 +394,7 @@ impl Crowd {
         let mut detailed = 0;
         self.merged_count = 0;
         self.merged_cutoff_at = (f64::NAN, f64::NAN);
+        self.budget_at = [f64::NAN; 3];
         let m = &mut self.merged;
         let mean_interval = m.series.params().expected_mean_interval_s() * self.fs;
         let mut joins = 0;
@@ -431,6 +450,42 @@ impl Crowd {
         for slot in &mut self.detailed_ball[detailed..] {
             *slot = u16::MAX;
         }
+    }
+
+    /// How many merged balls play (the loudest first) and the gain that makes up for the
+    /// others: at most [`MAX_MERGED_IMPACTS_PER_S`] impacts a second. Independent balls add
+    /// in power, so K of M balls scaled by √(W_M/W_K) (W: the balls' summed power
+    /// L(Vᵢ)²·G(Sᵢ)²) have the crowd's expected spectrum; only dense contacts (a rub makes
+    /// tens of thousands of impacts a second per ball) reach the budget. Computed again when
+    /// the rate, the membership or the spread changes.
+    fn impact_budget(&mut self, size: f64, velocity: f64) -> (usize, f64) {
+        let members = self.merged_count;
+        let ap = self.merged.series.params();
+        let rate_hz = 1.0
+            / ap.expected_mean_interval_s()
+                .max(ap.min_interval_s)
+                .max(1e-6);
+        let key = [rate_hz, members as f64, self.controls.spread];
+        if key != self.budget_at {
+            self.budget_at = key;
+            let fit = ((MAX_MERGED_IMPACTS_PER_S / rate_hz).floor() as usize).max(1);
+            let played = members.min(fit);
+            let (mut all, mut kept) = (0.0, 0.0);
+            for (i, &b) in self.merged_balls[..members].iter().enumerate() {
+                let (s, v) = self.scatter[usize::from(b)].apply(
+                    size,
+                    velocity.max(1e-3),
+                    self.controls.spread,
+                );
+                let w = v * size_gain(s).powi(2);
+                all += w;
+                if i < played {
+                    kept += w;
+                }
+            }
+            self.budget = (played, if kept > 0.0 { (all / kept).sqrt() } else { 1.0 });
+        }
+        self.budget
     }
 
     /// The merged balls' one low-pass: the cutoff whose two-pole skirt (power ∝ f_c⁴/f⁴
@@ -555,6 +610,7 @@ impl Crowd {
         let n = force.len().min(CHUNK);
         let fs = self.fs;
         let cutoff = self.merged_cutoff(s1, v1);
+        let (played, played_gain) = self.impact_budget(s1, v1);
         let m = &mut self.merged;
         let members = self.merged_count;
         let lead = 0.5 * T0_MAX_S * fs;
@@ -562,8 +618,8 @@ impl Crowd {
         if members > 0 && !(v0 == 0.0 && v1 == 0.0) {
             let ap = *m.series.params();
             let k = SPREAD_LN_SIGMA * self.controls.spread;
-            let gain = ap.pulse_gain * ap.level_gain / c1;
-            for &b in &self.merged_balls[..members] {
+            let gain = ap.pulse_gain * ap.level_gain / c1 * played_gain;
+            for &b in &self.merged_balls[..played] {
                 let j = usize::from(b);
                 let mut t = m.next_center[j];
                 if t - lead < nf {
@@ -583,6 +639,11 @@ impl Crowd {
                     }
                 }
                 m.next_center[j] = t - nf;
+            }
+            // Balls over the impact budget wait, their clocks kept ahead.
+            for &b in &self.merged_balls[played..members] {
+                let t = &mut m.next_center[usize::from(b)];
+                *t = t.max(lead + nf) - nf;
             }
         } else {
             // At rest: time passes, nothing rolls; the clocks stay ahead.

@@ -244,3 +244,51 @@ fn a_crowd_of_one_is_the_ball_alone_and_a_crowd_keeps_one_balls_level() {
         assert!((db(many / one)).abs() < 2.0, "crowd {n}");
     }
 }
+
+#[test]
+fn a_dense_crowd_keeps_its_level_within_the_impact_budget() {
+    use trundle_dsp::crowd::MAX_MERGED_IMPACTS_PER_S;
+    // A rub (the action disk's angle 0): tens of thousands of impacts a second per ball. A
+    // thousand rubbing balls would make ~5·10⁷; the merged process plays the loudest few
+    // within the budget, louder by √(W_M/W_K), so the crowd keeps its level.
+    let sc = SourceControls {
+        action_x: 1.0,
+        action_y: 0.0,
+        ..SourceControls::default()
+    };
+    let seconds = 2.0;
+    let mut one_power = 0.0;
+    let mut one_rate = 0.0;
+    for seed in 0..8 {
+        let (y, k) = source_force(sc, 200 + seed, seconds);
+        one_power += ac_rms(&y).powi(2) / 8.0;
+        one_rate += k as f64 / seconds / 8.0;
+    }
+    let controls = CrowdControls {
+        count: 1000,
+        spread: 0.0,
+        detail: 0,
+    };
+    let (crowd, c) = crowd_force(sc, controls, 0, seconds);
+    let rate = c.merged_impacts() as f64 / seconds;
+    println!(
+        "one rubbing ball {one_rate:.0} impacts/s; the merged 999 make {rate:.0}/s (budget {MAX_MERGED_IMPACTS_PER_S})"
+    );
+    // The budget is set from the interval density's expected mean (the min-interval floor
+    // and the ARMA filter's mean shift make the real rate differ by a few %): 10 %.
+    assert!(rate < 1.1 * MAX_MERGED_IMPACTS_PER_S, "{rate}");
+    assert!(
+        999.0 * one_rate > 10.0 * MAX_MERGED_IMPACTS_PER_S,
+        "a rub is dense"
+    );
+    let expected = (999.0 * one_power).sqrt();
+    let got = ac_rms(&crowd);
+    println!(
+        "level: {:.2} dB, 999 × one ball {:.2} dB",
+        db(got),
+        db(expected)
+    );
+    // 8 balls × 2 s of rub average each other to ±0.2 dB; the K played balls' scatter of
+    // their own level ±0.3 dB: 1 dB.
+    assert!((db(got) - db(expected)).abs() < 1.0);
+}
