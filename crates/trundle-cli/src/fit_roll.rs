@@ -16,9 +16,11 @@ use crate::output::check_destination;
 use crate::stats::{impacts_of, Series, DEFAULT_THRESHOLD};
 use serde_json::json;
 use std::path::PathBuf;
+use trundle_dsp::contact::BallMaterial;
 use trundle_dsp::fit::json::from_json;
-use trundle_dsp::fit::roll::{fit_roll, lpc_whiten, wiener_inverse, Action};
+use trundle_dsp::fit::roll::{fit_roll_with, lpc_whiten, wiener_inverse_auto, Action, RollOptions};
 use trundle_dsp::fit::{log_spectral_distance_db, resynthesize};
+use trundle_dsp::params::ParamEnum;
 use trundle_dsp::preset::Preset;
 use trundle_dsp::{ParamId, Params, Voice};
 
@@ -44,14 +46,25 @@ pub struct FitRollArgs {
     pub is_force: bool,
     /// Impacts are local maxima of the force estimate above this fraction of its peak
     /// (default 0.02 with --is-force: the velocity low-pass rings after a hard contact's
-    /// short pulse by up to 1.5 % of the pulse, which must not count as impacts; 0.1 for an
-    /// estimate, whose residual ringing would otherwise count as impacts).
+    /// short pulse by up to 1.5 % of the pulse, which must not count as impacts; 0.01 for an
+    /// estimate, whose ringing --ripple-ratio removes).
     #[arg(long)]
     pub threshold: Option<f64>,
-    /// For an estimated force: keep only the largest peak within ± this many ms (its
-    /// ringing is not impacts). Ignored with --is-force.
-    #[arg(long, default_value_t = 1.0)]
+    /// For an estimated force: a peak within ± this many ms of a peak more than
+    /// 1/--ripple-ratio times larger is the estimate's ringing, not an impact. Ignored with
+    /// --is-force.
+    #[arg(long, default_value_t = 2.0)]
     pub min_gap_ms: f64,
+    /// For an estimated force: see --min-gap-ms (1 keeps only the largest peak within the
+    /// window; the default 0.1 keeps close impacts of similar strength).
+    #[arg(long, default_value_t = RIPPLE_RATIO)]
+    pub ripple_ratio: f64,
+    /// What the ball is made of (steel, glass, stone, hardwood, rubber): the written
+    /// preset's `ball_material`. The pulse widths give the size only through the contact
+    /// (t₀ = c·7.88·10⁻⁴·S·A^−0.29 s, c from the ball and the object's material): the
+    /// default is the default scene's hard-wood ball.
+    #[arg(long, default_value = "hardwood", value_parser = parse_ball_material)]
+    pub ball_material: BallMaterial,
     /// Overwrite an existing file.
     #[arg(long)]
     pub force: bool,
@@ -62,6 +75,21 @@ pub struct FitRollArgs {
 
 /// Default impact threshold of a force (`--is-force`), as a fraction of its peak.
 pub const FORCE_THRESHOLD: f64 = 0.02;
+/// Default impact threshold of a force estimate, as a fraction of its peak: low, so that
+/// the quiet stretches of a roll keep their impacts (the ripple test removes the ringing).
+pub const ESTIMATE_THRESHOLD: f64 = 0.01;
+/// Default ripple ratio of a force estimate ([`trundle_dsp::fit::roll::suppress_relative`]).
+pub const RIPPLE_RATIO: f64 = 0.1;
+/// Impacts of an estimate this close to either end of the recording are dropped (s).
+pub const ESTIMATE_EDGE_S: f64 = 0.01;
+
+fn parse_ball_material(s: &str) -> Result<BallMaterial, String> {
+    BallMaterial::NAMES
+        .iter()
+        .position(|n| *n == s)
+        .map(BallMaterial::from_index)
+        .ok_or_else(|| format!("expected one of {}", BallMaterial::NAMES.join(", ")))
+}
 
 /// Run `fit-roll`; returns the report.
 pub fn run(args: &FitRollArgs) -> Result<String, CliError> {
@@ -76,6 +104,7 @@ pub fn run(args: &FitRollArgs) -> Result<String, CliError> {
     }
     // The object the roll was inverse-filtered by plays in the written preset.
     let mut embedded: Option<trundle_dsp::object::fitted::ObjectFile> = None;
+    let mut regularization = None;
     let (force, how) = if args.is_force {
         (
             rec.samples.clone(),
@@ -94,9 +123,14 @@ pub fn run(args: &FitRollArgs) -> Result<String, CliError> {
         });
         let longest = o.modes.iter().fold(0.0f64, |a, m| a.max(m.decay_s));
         let h = resynthesize(&o.modes, fs, ((5.0 * longest).min(4.0) * fs) as usize + 1);
+        let (f, eps) = wiener_inverse_auto(&rec.samples, &h, fs);
+        regularization = Some(eps);
         (
-            wiener_inverse(&rec.samples, &h),
-            format!("Wiener inverse of {} modes from {oshown}", o.modes.len()),
+            f,
+            format!(
+                "Wiener inverse of {} modes from {oshown} (regularization {eps:.0e} of the peak |H|², the sparsest estimate)",
+                o.modes.len()
+            ),
         )
     } else {
         (
@@ -104,21 +138,42 @@ pub fn run(args: &FitRollArgs) -> Result<String, CliError> {
             "blind: linear-prediction residual (order 32)".to_string(),
         )
     };
-    let threshold = args
-        .threshold
-        .unwrap_or(if args.is_force { FORCE_THRESHOLD } else { 0.1 });
+    let threshold = args.threshold.unwrap_or(if args.is_force {
+        FORCE_THRESHOLD
+    } else {
+        ESTIMATE_THRESHOLD
+    });
     if !(threshold.is_finite() && (0.0..1.0).contains(&threshold)) {
         return Err(input(format!(
             "--threshold must be a fraction of the peak in [0, 1), got {threshold}"
         )));
     }
-    let gap_s = if args.is_force {
-        0.0
-    } else {
-        args.min_gap_ms * 1e-3
-    };
-    let fit = fit_roll(&force, fs, threshold, gap_s).map_err(|e| input(format!("{shown}: {e}")))?;
+    if !(args.ripple_ratio.is_finite() && args.ripple_ratio > 0.0 && args.ripple_ratio <= 1.0) {
+        return Err(input(format!(
+            "--ripple-ratio must be in (0, 1], got {}",
+            args.ripple_ratio
+        )));
+    }
+    // The preset is written on the default scene: its contact (steel on the default
+    // object's material) sets how long a pulse of a given size lasts.
     let mut p = Params::default();
+    p.set_variant(args.ball_material);
+    let opts = if args.is_force {
+        RollOptions {
+            threshold,
+            contact_scale: p.contact_scale(),
+            ..RollOptions::default()
+        }
+    } else {
+        RollOptions {
+            threshold,
+            min_gap_s: args.min_gap_ms * 1e-3,
+            ripple_ratio: args.ripple_ratio,
+            edge_s: ESTIMATE_EDGE_S,
+            contact_scale: p.contact_scale(),
+        }
+    };
+    let fit = fit_roll_with(&force, fs, &opts).map_err(|e| input(format!("{shown}: {e}")))?;
     let (ax, ay) = fit.action.disk_xy();
     for (id, v) in [
         (ParamId::Roughness, fit.roughness),
@@ -175,6 +230,7 @@ pub fn run(args: &FitRollArgs) -> Result<String, CliError> {
         let r = json!({
             "output": args.output.display().to_string(),
             "force_estimate": how,
+            "regularization": regularization,
             "impacts": fit.impacts.len(),
             "impact_rate_hz": fit.impact_rate_hz,
             "action": action,
