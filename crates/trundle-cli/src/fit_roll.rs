@@ -7,6 +7,7 @@
 //!             with --is-force) ─► impacts ─► ARMA(1,1) ─► ρ, ν, m, S, V, action
 //!   ─► preset JSON (trundle_preset 1) ─► resynthesis (the signal engine, force) ─► impacts
 //!   ─► distances: KS of intervals and relative amplitudes, log-spectral distance of forces
+//!      at equal energy (an estimate's against the resynthesis through the same inverse)
 //! ```
 
 use crate::decode::read_recording;
@@ -18,7 +19,7 @@ use serde_json::json;
 use std::path::PathBuf;
 use trundle_dsp::contact::BallMaterial;
 use trundle_dsp::fit::json::from_json;
-use trundle_dsp::fit::roll::{fit_roll_with, lpc_whiten, wiener_inverse_auto, Action, RollOptions};
+use trundle_dsp::fit::roll::{fit_roll_with, lpc_whiten, Action, RollOptions, WienerInverse};
 use trundle_dsp::fit::{log_spectral_distance_db, resynthesize};
 use trundle_dsp::params::ParamEnum;
 use trundle_dsp::preset::Preset;
@@ -104,7 +105,7 @@ pub fn run(args: &FitRollArgs) -> Result<String, CliError> {
     }
     // The object the roll was inverse-filtered by plays in the written preset.
     let mut embedded: Option<trundle_dsp::object::fitted::ObjectFile> = None;
-    let mut regularization = None;
+    let mut inverse: Option<(WienerInverse, f64)> = None;
     let (force, how) = if args.is_force {
         (
             rec.samples.clone(),
@@ -123,8 +124,9 @@ pub fn run(args: &FitRollArgs) -> Result<String, CliError> {
         });
         let longest = o.modes.iter().fold(0.0f64, |a, m| a.max(m.decay_s));
         let h = resynthesize(&o.modes, fs, ((5.0 * longest).min(4.0) * fs) as usize + 1);
-        let (f, eps) = wiener_inverse_auto(&rec.samples, &h, fs);
-        regularization = Some(eps);
+        let w = WienerInverse::new(&rec.samples, &h);
+        let (f, eps) = w.sparsest(fs);
+        inverse = Some((w, eps));
         (
             f,
             format!(
@@ -218,7 +220,17 @@ pub fn run(args: &FitRollArgs) -> Result<String, CliError> {
         "the resynthesis",
     )?;
     let ks = rec_series.distance(&syn_series);
-    let synth64: Vec<f64> = synth.iter().map(|&x| f64::from(x)).collect();
+    let mut synth64: Vec<f64> = synth.iter().map(|&x| f64::from(x)).collect();
+    if let Some((w, eps)) = &inverse {
+        // Compared band for band: the resynthesis through the object and the same inverse.
+        synth64 = w.through(&synth64, *eps);
+    }
+    let regularization = inverse.as_ref().map(|i| i.1);
+    // The fit is scale-free (a recording's level says nothing of the force's units): the
+    // spectra are compared at equal energy.
+    let energy = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>();
+    let gain = (energy(&force) / energy(&synth64).max(1e-300)).sqrt();
+    synth64.iter_mut().for_each(|x| *x *= gain);
     let lsd = log_spectral_distance_db(&force, &synth64, fs);
     write_text(&args.output, &(preset.to_json() + "\n"), args.force)?;
     let action = match fit.action {

@@ -216,6 +216,47 @@ impl WienerInverse {
         out.truncate(self.len);
         out
     }
+
+    /// The estimate with ε chosen by sparsity ([`wiener_inverse_auto`]), and ε.
+    pub fn sparsest(&self, sample_rate_hz: f64) -> (Vec<f64>, f64) {
+        let edge = (0.01 * sample_rate_hz) as usize;
+        let tried: Vec<(f64, f64)> = WIENER_EPS_LADDER
+            .iter()
+            .map(|&eps| (eps, kurtosis(&self.estimate(eps), edge)))
+            .collect();
+        let best = tried.iter().fold(0.0f64, |a, t| a.max(t.1));
+        let eps = tried
+            .iter()
+            .find(|t| t.1 >= 0.98 * best)
+            .map_or(1e-3, |t| t.0);
+        (self.estimate(eps), eps)
+    }
+
+    /// What this inverse makes of the object driven by the force `f` (as long as x): f
+    /// filtered by |H|²/(|H|² + ε·max|H|²), without its DC (the voice's DC blocker takes
+    /// the static load off before the object). A resynthesized force passed through it is
+    /// comparable with the estimate, band for band.
+    pub fn through(&self, f: &[f64], eps: f64) -> Vec<f64> {
+        let fwd = RealFftPlanner::<f64>::new().plan_fft_forward(self.n);
+        let mut buf = vec![0.0; self.n];
+        let m = f.len().min(self.n);
+        buf[..m].copy_from_slice(&f[..m]);
+        let mut spec = fwd.make_output_vec();
+        fwd.process(&mut buf, &mut spec).expect("sizes match");
+        let floor = eps * self.h2_max;
+        let scale = 1.0 / self.n as f64;
+        for (c, &h2) in spec.iter_mut().zip(&self.h2) {
+            *c *= scale * h2 / (h2 + floor);
+        }
+        spec[0] = realfft::num_complex::Complex::new(0.0, 0.0);
+        let last = spec.len() - 1;
+        spec[last].im = 0.0;
+        let inv = RealFftPlanner::<f64>::new().plan_fft_inverse(self.n);
+        let mut out = vec![0.0; self.n];
+        inv.process(&mut spec, &mut out).expect("sizes match");
+        out.truncate(self.len);
+        out
+    }
 }
 
 /// The regularizations [`wiener_inverse_auto`] tries: ε = 10⁻¹ … 10⁻⁹ of max|H|².
@@ -246,18 +287,7 @@ pub fn kurtosis(x: &[f64], edge: usize) -> f64 {
 /// a roll rendered by Trundle the ladder settles at ε = 10⁻⁷ (−70 dB; a fixed 10⁻³ leaves
 /// ringing that counts as hundreds of impacts, `tests/fit.rs`). Returns the estimate and ε.
 pub fn wiener_inverse_auto(x: &[f64], h: &[f64], sample_rate_hz: f64) -> (Vec<f64>, f64) {
-    let w = WienerInverse::new(x, h);
-    let edge = (0.01 * sample_rate_hz) as usize;
-    let tried: Vec<(f64, f64)> = WIENER_EPS_LADDER
-        .iter()
-        .map(|&eps| (eps, kurtosis(&w.estimate(eps), edge)))
-        .collect();
-    let best = tried.iter().fold(0.0f64, |a, t| a.max(t.1));
-    let eps = tried
-        .iter()
-        .find(|t| t.1 >= 0.98 * best)
-        .map_or(1e-3, |t| t.0);
-    (w.estimate(eps), eps)
+    WienerInverse::new(x, h).sparsest(sample_rate_hz)
 }
 
 /// AM rate and depth of a force (TASLP eq 7): the envelope (mean |f| over 1 ms frames) is
