@@ -47,19 +47,21 @@ pub struct FitRollArgs {
     pub is_force: bool,
     /// Impacts are local maxima of the force estimate above this fraction of its peak
     /// (default 0.02 with --is-force: the velocity low-pass rings after a hard contact's
-    /// short pulse by up to 1.5 % of the pulse, which must not count as impacts; 0.01 for an
-    /// estimate, whose ringing --ripple-ratio removes).
+    /// short pulse by up to 1.5 % of the pulse, which must not count as impacts; 0.01
+    /// through --object's inverse, whose ringing --ripple-ratio removes; 0.1 blind, where
+    /// the whitening leaves noise between the impacts).
     #[arg(long)]
     pub threshold: Option<f64>,
     /// For an estimated force: a peak within ± this many ms of a peak more than
-    /// 1/--ripple-ratio times larger is the estimate's ringing, not an impact. Ignored with
-    /// --is-force.
-    #[arg(long, default_value_t = 2.0)]
-    pub min_gap_ms: f64,
-    /// For an estimated force: see --min-gap-ms (1 keeps only the largest peak within the
-    /// window; the default 0.1 keeps close impacts of similar strength).
-    #[arg(long, default_value_t = RIPPLE_RATIO)]
-    pub ripple_ratio: f64,
+    /// 1/--ripple-ratio times larger is the estimate's ringing, not an impact (default 2
+    /// through --object's inverse, 1 blind). Ignored with --is-force.
+    #[arg(long)]
+    pub min_gap_ms: Option<f64>,
+    /// For an estimated force: see --min-gap-ms (default 0.1 through --object's inverse,
+    /// which keeps close impacts of similar strength; 1 blind: only the largest peak within
+    /// the window).
+    #[arg(long)]
+    pub ripple_ratio: Option<f64>,
     /// What the ball is made of (steel, glass, stone, hardwood, rubber): the written
     /// preset's `ball_material`. The pulse widths give the size only through the contact
     /// (t₀ = c·7.88·10⁻⁴·S·A^−0.29 s, c from the ball and the object's material): the
@@ -76,11 +78,14 @@ pub struct FitRollArgs {
 
 /// Default impact threshold of a force (`--is-force`), as a fraction of its peak.
 pub const FORCE_THRESHOLD: f64 = 0.02;
-/// Default impact threshold of a force estimate, as a fraction of its peak: low, so that
-/// the quiet stretches of a roll keep their impacts (the ripple test removes the ringing).
-pub const ESTIMATE_THRESHOLD: f64 = 0.01;
-/// Default ripple ratio of a force estimate ([`trundle_dsp::fit::roll::suppress_relative`]).
-pub const RIPPLE_RATIO: f64 = 0.1;
+/// Default (threshold, ripple window in ms, ripple ratio) of a force estimated through an
+/// object's inverse: a low threshold, so that the quiet stretches of a roll keep their
+/// impacts; the ripple test ([`trundle_dsp::fit::roll::suppress_relative`]) removes the
+/// inverse's ringing and keeps close impacts.
+pub const INVERSE_DETECTION: (f64, f64, f64) = (0.01, 2.0, 0.1);
+/// The same for a blind (linear-prediction) estimate, whose residual is noisy between the
+/// impacts: a tenth of the peak, the largest peak within ±1 ms.
+pub const BLIND_DETECTION: (f64, f64, f64) = (0.1, 1.0, 1.0);
 /// Impacts of an estimate this close to either end of the recording are dropped (s).
 pub const ESTIMATE_EDGE_S: f64 = 0.01;
 
@@ -140,24 +145,35 @@ pub fn run(args: &FitRollArgs) -> Result<String, CliError> {
             "blind: linear-prediction residual (order 32)".to_string(),
         )
     };
+    let detection = if args.object.is_some() {
+        INVERSE_DETECTION
+    } else {
+        BLIND_DETECTION
+    };
     let threshold = args.threshold.unwrap_or(if args.is_force {
         FORCE_THRESHOLD
     } else {
-        ESTIMATE_THRESHOLD
+        detection.0
     });
+    let min_gap_ms = args.min_gap_ms.unwrap_or(detection.1);
+    let ripple_ratio = args.ripple_ratio.unwrap_or(detection.2);
     if !(threshold.is_finite() && (0.0..1.0).contains(&threshold)) {
         return Err(input(format!(
             "--threshold must be a fraction of the peak in [0, 1), got {threshold}"
         )));
     }
-    if !(args.ripple_ratio.is_finite() && args.ripple_ratio > 0.0 && args.ripple_ratio <= 1.0) {
+    if !(ripple_ratio.is_finite() && ripple_ratio > 0.0 && ripple_ratio <= 1.0) {
         return Err(input(format!(
-            "--ripple-ratio must be in (0, 1], got {}",
-            args.ripple_ratio
+            "--ripple-ratio must be in (0, 1], got {ripple_ratio}"
         )));
     }
-    // The preset is written on the default scene: its contact (steel on the default
-    // object's material) sets how long a pulse of a given size lasts.
+    if !(min_gap_ms.is_finite() && min_gap_ms >= 0.0) {
+        return Err(input(format!(
+            "--min-gap-ms must be a time in ms ≥ 0, got {min_gap_ms}"
+        )));
+    }
+    // The preset is written on the default parameters with --ball-material: its contact
+    // (that ball on the default object's material) sets how long a pulse of a size lasts.
     let mut p = Params::default();
     p.set_variant(args.ball_material);
     let opts = if args.is_force {
@@ -169,8 +185,8 @@ pub fn run(args: &FitRollArgs) -> Result<String, CliError> {
     } else {
         RollOptions {
             threshold,
-            min_gap_s: args.min_gap_ms * 1e-3,
-            ripple_ratio: args.ripple_ratio,
+            min_gap_s: min_gap_ms * 1e-3,
+            ripple_ratio,
             edge_s: ESTIMATE_EDGE_S,
             contact_scale: p.contact_scale(),
         }
