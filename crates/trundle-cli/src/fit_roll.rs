@@ -86,7 +86,8 @@ pub const INVERSE_DETECTION: (f64, f64, f64) = (0.01, 2.0, 0.1);
 /// The same for a blind (linear-prediction) estimate, whose residual is noisy between the
 /// impacts: a tenth of the peak, the largest peak within ±1 ms.
 pub const BLIND_DETECTION: (f64, f64, f64) = (0.1, 1.0, 1.0);
-/// Impacts of an estimate this close to either end of the recording are dropped (s).
+/// Impacts of an estimate this close to either end of the recording are dropped (s); through
+/// an object's inverse, at least its longest decay time (the recording cuts its ringing).
 pub const ESTIMATE_EDGE_S: f64 = 0.01;
 
 fn parse_ball_material(s: &str) -> Result<BallMaterial, String> {
@@ -111,6 +112,7 @@ pub fn run(args: &FitRollArgs) -> Result<String, CliError> {
     // The object the roll was inverse-filtered by plays in the written preset.
     let mut embedded: Option<trundle_dsp::object::fitted::ObjectFile> = None;
     let mut inverse: Option<(WienerInverse, f64)> = None;
+    let mut edge_s = ESTIMATE_EDGE_S;
     let (force, how) = if args.is_force {
         (
             rec.samples.clone(),
@@ -128,6 +130,7 @@ pub fn run(args: &FitRollArgs) -> Result<String, CliError> {
             source: osource,
         });
         let longest = o.modes.iter().fold(0.0f64, |a, m| a.max(m.decay_s));
+        edge_s = edge_s.max(longest.min(1.0));
         let h = resynthesize(&o.modes, fs, ((5.0 * longest).min(4.0) * fs) as usize + 1);
         let w = WienerInverse::new(&rec.samples, &h);
         let (f, eps) = w.sparsest(fs);
@@ -187,7 +190,7 @@ pub fn run(args: &FitRollArgs) -> Result<String, CliError> {
             threshold,
             min_gap_s: min_gap_ms * 1e-3,
             ripple_ratio,
-            edge_s: ESTIMATE_EDGE_S,
+            edge_s,
             contact_scale: p.contact_scale(),
         }
     };
