@@ -232,7 +232,7 @@ pub fn run(args: &FitRollArgs) -> Result<String, CliError> {
     for b in synth.chunks_mut(4096) {
         v.process(b);
     }
-    let rec_series = Series::new(fit.impacts.clone(), seconds, "the recording")?;
+    let rec_series = Series::new(fit.impacts.clone(), fit.analysed_s, "the recording")?;
     let syn_series = Series::new(
         impacts_of(&synth, fs, DEFAULT_THRESHOLD),
         seconds,
@@ -264,6 +264,7 @@ pub fn run(args: &FitRollArgs) -> Result<String, CliError> {
             "regularization": regularization,
             "impacts": fit.impacts.len(),
             "impact_rate_hz": fit.impact_rate_hz,
+            "analysed_s": fit.analysed_s,
             "action": action,
             "roughness": fit.roughness,
             "roughness_parts": fit.roughness_parts,

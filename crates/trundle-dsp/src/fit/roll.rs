@@ -90,6 +90,9 @@ pub struct RollFit {
     pub action: Action,
     /// Impacts per second.
     pub impact_rate_hz: f64,
+    /// The span the impacts were looked for in (s): the recording without its ends
+    /// ([`RollOptions::edge_s`]).
+    pub analysed_s: f64,
     /// The impacts found.
     pub impacts: Vec<Impact>,
     /// Their series analysis.
@@ -476,8 +479,9 @@ pub fn fit_roll_with(
         return Err(RollError::TooFewImpacts(impacts.len()));
     }
     let series = analyze_series(&impacts);
-    let seconds = force.len() as f64 / fs;
-    let impact_rate_hz = impacts.len() as f64 / seconds;
+    // The span the impacts were looked for in (the ends dropped, see RollOptions::edge_s).
+    let analysed_s = (force.len() as f64 / fs - 2.0 * opts.edge_s.max(0.0)).max(1.0 / fs);
+    let impact_rate_hz = impacts.len() as f64 / analysed_s;
     let cv = series.std_interval_s / series.mean_interval_s.max(1e-300);
     let action = if impact_rate_hz > 0.25 * fs {
         Action::Rub
@@ -518,6 +522,7 @@ pub fn fit_roll_with(
         velocity,
         action,
         impact_rate_hz,
+        analysed_s,
         impacts,
         series,
     })
