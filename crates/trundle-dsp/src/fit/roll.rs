@@ -402,6 +402,23 @@ pub fn suppress_relative(impacts: &[Impact], gap_s: f64, ratio: f64) -> Vec<Impa
         .collect()
 }
 
+/// The noise of a force estimate, robustly: 1.4826·median|dₙ − median d|/√2 of its first
+/// difference dₙ = fₙ − fₙ₋₁ (the MAD, scaled to σ for Gaussian noise; the difference takes
+/// off the slow baseline a DC-free pulse train leaves, and the pulses, a few per cent of
+/// the samples, do not move a median). What a noisy recording adds to the inverse is about
+/// white where the object rings; the pulses of a clean estimate stand 10⁴ above this.
+pub fn noise_sigma(x: &[f64]) -> f64 {
+    if x.len() < 3 {
+        return 0.0;
+    }
+    let mut d: Vec<f64> = x.windows(2).map(|w| w[1] - w[0]).collect();
+    let mid = d.len() / 2;
+    let med = *d.select_nth_unstable_by(mid, f64::total_cmp).1;
+    let mut dev: Vec<f64> = d.iter().map(|v| (v - med).abs()).collect();
+    let mad = *dev.select_nth_unstable_by(mid, f64::total_cmp).1;
+    1.4826 * mad / core::f64::consts::SQRT_2
+}
+
 /// How [`fit_roll_with`] finds impacts and reads pulse widths.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RollOptions {
@@ -414,6 +431,9 @@ pub struct RollOptions {
     /// Impacts this close (s) to either end are dropped (an inverse is wrong where the
     /// recording cuts the object's ringing).
     pub edge_s: f64,
+    /// Impacts must also stand this many times above the estimate's noise
+    /// ([`noise_sigma`]); 0 = no noise floor (a clean force).
+    pub noise_factor: f64,
     /// The contact scale c of the preset the fit is for ([`crate::Params::contact_scale`]):
     /// its pulses last c·t₀, so the size is read from the widths divided by c.
     pub contact_scale: f64,
@@ -427,6 +447,7 @@ impl Default for RollOptions {
             min_gap_s: 0.0,
             ripple_ratio: 1.0,
             edge_s: 0.0,
+            noise_factor: 0.0,
             contact_scale: 1.0,
         }
     }
@@ -467,7 +488,12 @@ pub fn fit_roll_with(
     let fs = sample_rate_hz;
     let f32s: Vec<f32> = force.iter().map(|&v| v as f32).collect();
     let peak = force.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-    let mut impacts = extract_impacts(&f32s, fs, opts.threshold * peak);
+    let floor = if opts.noise_factor > 0.0 {
+        opts.noise_factor * noise_sigma(force)
+    } else {
+        0.0
+    };
+    let mut impacts = extract_impacts(&f32s, fs, (opts.threshold * peak).max(floor));
     if opts.min_gap_s > 0.0 {
         impacts = suppress_relative(&impacts, opts.min_gap_s, opts.ripple_ratio);
     }
@@ -556,6 +582,27 @@ mod tests {
         // Ratio 1 (suppress_ripples) merges the pair.
         let largest = suppress_ripples(&v, 2e-3);
         assert_eq!(largest.len(), 11);
+    }
+
+    #[test]
+    fn noise_sigma_reads_the_noise_under_a_pulse_train() {
+        // Uniform noise of σ = 0.01 (sum of 4 uniforms: near Gaussian) plus pulses of 1.0
+        // every 200 samples on a slow baseline: the pulses and the baseline do not count.
+        let mut s = 3u32;
+        let mut u = || {
+            s = s.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            f64::from(s >> 8) / f64::from(1u32 << 24) - 0.5
+        };
+        let x: Vec<f64> = (0..100_000)
+            .map(|i| {
+                let n = (u() + u() + u() + u()) * 0.01 * 12f64.sqrt() / 2.0;
+                let pulse = if i % 200 < 3 { 1.0 } else { 0.0 };
+                n + pulse - 0.3 * (i as f64 * 1e-3).sin()
+            })
+            .collect();
+        let sigma = noise_sigma(&x);
+        assert!((sigma / 0.01 - 1.0).abs() < 0.1, "{sigma}");
+        assert_eq!(noise_sigma(&[1.0]), 0.0);
     }
 
     #[test]
