@@ -34,7 +34,9 @@
 //! (Table I's amplitude innovation σ = 0.04 around a mean of 0.27 … 0.43):
 //! [`suppress_relative`] drops a peak within ±2 ms of one ten times larger, which keeps
 //! close impacts, and the threshold can then be low (1 % of the peak) so that the quiet
-//! stretches of the roll keep their impacts. A missed or a spurious impact splits or
+//! stretches of the roll keep their impacts — but at least a few times the estimate's own
+//! noise, σ̂ = 1.4826·MAD(Δf)/√2 ([`noise_sigma`], [`RollOptions::noise_factor`]), which a
+//! noisy recording raises. A missed or a spurious impact splits or
 //! merges an interval, and b₁(Δ), b₁(A) (a near-unit-root ARMA, a₁ ≈ −0.95) move by tenths
 //! for a few dozen of them: the count must be right to within a per cent, which this gets
 //! (on Trundle's own rolls through a `fit-object` file of the same object, the impacts are
