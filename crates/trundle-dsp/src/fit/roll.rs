@@ -267,7 +267,7 @@ impl WienerInverse {
 /// The regularizations [`wiener_inverse_auto`] tries: ε = 10⁻¹ … 10⁻⁹ of max|H|².
 pub const WIENER_EPS_LADDER: [f64; 9] = [1e-1, 1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9];
 
-/// Kurtosis E[f⁴]/E[f²]² of `x` without `edge` samples at either end (3 for Gaussian
+/// Kurtosis E(f⁴)/E(f²)² of `x` without `edge` samples at either end (3 for Gaussian
 /// noise; large for a sparse train of pulses).
 pub fn kurtosis(x: &[f64], edge: usize) -> f64 {
     let core = if x.len() > 4 * edge {
