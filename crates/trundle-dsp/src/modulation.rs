@@ -170,7 +170,9 @@ impl Modulator {
 
     /// Tₖ = e^{i2π(k·r₀ + dr·k(k+1)/2)} for k = 1..=len by a chirped phasor: with
     /// wₖ = e^{i2π(r₀ + k·dr)}, Tₖ = Tₖ₋₁·wₖ and wₖ = wₖ₋₁·e^{i2π·dr} (three `sin_cos`;
-    /// rounding ≈ 10⁻¹⁶ per step, restarted every block).
+    /// rounding ≈ 10⁻¹⁶ per step, restarted every block). Not inlined: inlined, the
+    /// compiler hoisted its `sin_cos` into every call of [`apply_scaled`](Self::apply_scaled).
+    #[inline(never)]
     fn build_turns(&mut self, r0: f64, dr: f64, len: usize) {
         let tau = core::f64::consts::TAU;
         let (ws, wc) = (tau * r0).sin_cos();
