@@ -343,14 +343,14 @@ impl ModalBank {
         let t2 = crate::FLUSH_THRESHOLD * crate::FLUSH_THRESHOLD;
         let mut ringing = false;
         for (a, b) in self.ranges() {
-            for k in a..b {
-                let e = self.re[k] * self.re[k] + self.im[k] * self.im[k];
-                if e < t2 || !e.is_finite() {
-                    self.re[k] = 0.0;
-                    self.im[k] = 0.0;
-                } else {
-                    ringing = true;
-                }
+            // Branch-free (the loop vectorizes): keep a mode when t² ≤ |z|² ≤ f32::MAX,
+            // flush it otherwise (NaN and ∞ fail the comparisons).
+            for (re, im) in self.re[a..b].iter_mut().zip(&mut self.im[a..b]) {
+                let e = *re * *re + *im * *im;
+                let keep = (e >= t2) & (e <= f32::MAX);
+                *re = if keep { *re } else { 0.0 };
+                *im = if keep { *im } else { 0.0 };
+                ringing |= keep;
             }
         }
         self.ringing = ringing;
@@ -415,13 +415,9 @@ impl ModalBank {
                     _ => scalar::<ST>(&mut m, x, acc, acc_side),
                 }
             }
-            for (yt, a) in out[done..end].iter_mut().zip(&acc.0[..x.len()]) {
-                *yt = lane_sum(a);
-            }
+            lane_sums(self.kernel, &acc.0[..x.len()], &mut out[done..end]);
             if ST {
-                for (yt, a) in side[done..end].iter_mut().zip(&acc_side.0[..x.len()]) {
-                    *yt = lane_sum(a);
-                }
+                lane_sums(self.kernel, &acc_side.0[..x.len()], &mut side[done..end]);
             }
             done = end;
         }
@@ -432,6 +428,25 @@ impl ModalBank {
 #[inline]
 fn lane_sum(a: &[f32; LANES]) -> f32 {
     ((a[0] + a[1]) + (a[2] + a[3])) + ((a[4] + a[5]) + (a[6] + a[7]))
+}
+
+/// `out[t] = lane_sum(rows[t])` for every row: with the AVX2 kernel, four rows at a time by
+/// horizontal adds in [`lane_sum`]'s order (bit for bit the same sums).
+#[inline]
+fn lane_sums(kernel: Kernel, rows: &[[f32; LANES]], out: &mut [f32]) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if kernel == Kernel::Avx2Fma {
+            // SAFETY: the AVX2+FMA kernel is only selected where the CPU has AVX2 (and so
+            // AVX): `set_kernel` refuses a kernel the CPU lacks.
+            unsafe { x86::avx_lane_sums(rows, out) };
+            return;
+        }
+    }
+    let _ = kernel;
+    for (y, a) in out.iter_mut().zip(rows) {
+        *y = lane_sum(a);
+    }
 }
 
 /// Modes whose decay spans more samples than this (τ·f_s) run in f64 ([`LongBank`]): beyond
@@ -624,6 +639,41 @@ mod x86 {
 
     use super::{Acc, Modes, BLOCK, LANES};
     use std::arch::x86_64::*;
+
+    /// [`super::lane_sum`] of every row into `out` (the shorter sets the count), four rows
+    /// at a time: `hadd` pairs (a₀+a₁, a₂+a₃ | a₄+a₅, a₆+a₇) of two rows, `hadd` again gives
+    /// (a₀+a₁)+(a₂+a₃) and (a₄+a₅)+(a₆+a₇) of four rows in the two 128-bit halves, whose
+    /// sum is `lane_sum`'s last addition: the same additions in the same order.
+    ///
+    /// # Safety
+    /// The CPU must have AVX.
+    #[target_feature(enable = "avx")]
+    #[allow(unused_unsafe)] // as avx2_groups
+    pub(super) unsafe fn avx_lane_sums(rows: &[[f32; LANES]], out: &mut [f32]) {
+        let n = rows.len().min(out.len());
+        let (rows, out) = (&rows[..n], &mut out[..n]);
+        let mut quads = rows.chunks_exact(4);
+        let mut outs = out.chunks_exact_mut(4);
+        for (r, y) in (&mut quads).zip(&mut outs) {
+            // SAFETY: each row is 8 f32 (one unaligned 256-bit load), `y` holds 4 f32.
+            unsafe {
+                let h01 = _mm256_hadd_ps(
+                    _mm256_loadu_ps(r[0].as_ptr()),
+                    _mm256_loadu_ps(r[1].as_ptr()),
+                );
+                let h23 = _mm256_hadd_ps(
+                    _mm256_loadu_ps(r[2].as_ptr()),
+                    _mm256_loadu_ps(r[3].as_ptr()),
+                );
+                let hh = _mm256_hadd_ps(h01, h23);
+                let s = _mm_add_ps(_mm256_castps256_ps128(hh), _mm256_extractf128_ps::<1>(hh));
+                _mm_storeu_ps(y.as_mut_ptr(), s);
+            }
+        }
+        for (y, a) in outs.into_remainder().iter_mut().zip(quads.remainder()) {
+            *y = super::lane_sum(a);
+        }
+    }
 
     /// Most groups interleaved by the AVX2 kernel (4 × 8 = 32 modes in flight).
     const G_AVX: usize = 4;

@@ -2,10 +2,11 @@
 //!
 //! TASLP eq 7, 8, 17 (CMJ eq 4, 5): f_out(t) = [1 + m·sin(2πν_m t)]·f_in(t) with
 //! ν_m = 3·V/S Hz and depth m ∈ [0, 1] (the "asymmetry" control; the paper's natural value
-//! is 0.3). The phase is kept in f64 and wrapped every sample, so it does not drift over
+//! is 0.3). The phase is kept in f64 and wrapped every block, so it does not drift over
 //! hours of rendering, and it is continuous when ν_m changes (no clicks when V or S move).
 
 use crate::params::{ParamEnum, ParamId};
+use crate::CHUNK;
 
 /// The modulation frequency of TASLP eq 17: ν_m = 3·V/S Hz (S floored at 0.1).
 #[inline]
@@ -49,12 +50,37 @@ pub fn depth_at(law: AsymmetryLaw, m: f64, velocity: f64, size: f64) -> f64 {
 
 /// A sinusoidal amplitude modulator with a continuous phase.
 ///
+/// Evaluation (TASLP eq 7, the same product, evaluated per block): within a block of at
+/// most [`CHUNK`] samples the phase is θₖ = θ₀ + k·r₀ + dr·k(k+1)/2 (the rate ramps
+/// linearly, rₖ = r₀ + k·dr cycles per sample). sin 2πθₖ = Im(e^{i2πθ₀}·Tₖ) with the turns
+/// Tₖ = e^{i2π(k·r₀ + dr·k(k+1)/2)}: one `sin_cos` of the exact phase per block and a table
+/// of turns that depends only on (r₀, dr) — built by a chirped phasor (two complex
+/// products a sample) when the rate moves, kept while it does not (the steady roll). Each
+/// sample then costs one complex-by-real product, with no dependency between samples.
+///
 /// # Allocation
-/// None.
-#[derive(Clone, Debug, Default)]
+/// None (the turn table is an inline array).
+#[derive(Clone, Debug)]
 pub struct Modulator {
     /// Phase in cycles, in [0, 1).
     phase: f64,
+    /// Re Tₖ for k = 1..=len (index k − 1).
+    turn_re: [f64; CHUNK],
+    /// Im Tₖ.
+    turn_im: [f64; CHUNK],
+    /// (r₀, dr, len) the table holds; NaN = empty.
+    turn_for: (f64, f64, usize),
+}
+
+impl Default for Modulator {
+    fn default() -> Self {
+        Self {
+            phase: 0.0,
+            turn_re: [0.0; CHUNK],
+            turn_im: [0.0; CHUNK],
+            turn_for: (f64::NAN, f64::NAN, 0),
+        }
+    }
 }
 
 impl Modulator {
@@ -77,49 +103,118 @@ impl Modulator {
     /// from their start to their end values (per-sample interpolation: no zipper noise).
     /// `rate_per_sample` is ν_m/fs in cycles per sample.
     pub fn apply(&mut self, x: &mut [f32], depth: (f32, f32), rate_per_sample: (f64, f64)) {
+        self.apply_scaled(x, (1.0, 1.0), depth, rate_per_sample);
+    }
+
+    /// [`apply`](Self::apply) with a gain L ramping linearly from `gain.0` to `gain.1`
+    /// over the block applied first, in the same pass: xₖ ← (xₖ·Lₖ)·(1 + mₖ·sin 2πθₖ)
+    /// (the source's loudness L(V), CMMR §3.4, then the AM, TASLP eq 7). A constant gain of
+    /// 1 is not multiplied.
+    pub fn apply_scaled(
+        &mut self,
+        x: &mut [f32],
+        gain: (f32, f32),
+        depth: (f32, f32),
+        rate_per_sample: (f64, f64),
+    ) {
         let n = x.len();
         if n == 0 {
             return;
         }
         let inv = 1.0 / n as f64;
         if depth.0 == 0.0 && depth.1 == 0.0 {
-            // Nothing to multiply: only the phase advances (stage costs nothing at m = 0).
+            // Nothing to modulate: only the gain, and the phase advances (the stage costs
+            // nothing at m = 0).
+            scale(x, gain);
             let mean_rate = 0.5 * (rate_per_sample.0 + rate_per_sample.1);
             self.phase = (self.phase + mean_rate * n as f64).rem_euclid(1.0);
             return;
         }
         let dd = (depth.1 - depth.0) * inv as f32;
+        let dl = (gain.1 - gain.0) * inv as f32;
         let dr = (rate_per_sample.1 - rate_per_sample.0) * inv;
-        let mut m = depth.0;
-        // sin(2π·phaseₖ) from a chirped phasor instead of a `sin` per sample: with
-        // rₖ = r₀ + k·dr and phaseₖ = phaseₖ₋₁ + rₖ, zₖ = e^{i2π·phaseₖ} = zₖ₋₁·wₖ and
-        // wₖ = e^{i2π·rₖ} = wₖ₋₁·e^{i2π·dr}. Three `sin_cos` per block; the phasor restarts
-        // from the exact f64 phase every block, so its rounding (≈ 10⁻¹⁶ per sample) never
-        // accumulates past one block and the phase itself is kept exactly as before.
-        let tau = core::f64::consts::TAU;
-        let (zs, zc) = (tau * self.phase).sin_cos();
-        let (ws, wc) = (tau * rate_per_sample.0).sin_cos();
-        let (cs, cc) = (tau * dr).sin_cos();
-        let (mut zr, mut zi) = (zc, zs);
-        let (mut wr, mut wi) = (wc, ws);
-        let mut r = rate_per_sample.0;
-        for s in x.iter_mut() {
-            m += dd;
-            r += dr;
-            self.phase += r;
-            if self.phase >= 1.0 {
-                self.phase -= 1.0;
+        let mut done = 0;
+        while done < n {
+            let len = (n - done).min(CHUNK);
+            let o = done as f64;
+            let r0 = rate_per_sample.0 + o * dr;
+            let key = (r0, dr, len);
+            if key != self.turn_for {
+                self.build_turns(r0, dr, len);
+                self.turn_for = key;
             }
+            let (zs, zc) = (core::f64::consts::TAU * self.phase).sin_cos();
+            let (m0, l0) = (depth.0 + done as f32 * dd, gain.0 + done as f32 * dl);
+            let block = &mut x[done..done + len];
+            let turns = self.turn_re[..len].iter().zip(&self.turn_im[..len]);
+            if dd == 0.0 && dl == 0.0 {
+                // The steady roll: constant depth and gain.
+                let (m, l) = (depth.1, gain.1);
+                for (s, (&tr, &ti)) in block.iter_mut().zip(turns) {
+                    let sin = (zc * ti + zs * tr) as f32;
+                    *s = (*s * l) * (1.0 + m * sin);
+                }
+            } else {
+                for (k, (s, (&tr, &ti))) in block.iter_mut().zip(turns).enumerate() {
+                    let kf = (k + 1) as f32;
+                    let (m, l) = (m0 + kf * dd, l0 + kf * dl);
+                    let sin = (zc * ti + zs * tr) as f32;
+                    *s = (*s * l) * (1.0 + m * sin);
+                }
+            }
+            let lf = len as f64;
+            self.phase = (self.phase + lf * r0 + dr * (0.5 * lf * (lf + 1.0))).rem_euclid(1.0);
+            done += len;
+        }
+    }
+
+    /// Tₖ = e^{i2π(k·r₀ + dr·k(k+1)/2)} for k = 1..=len by a chirped phasor: with
+    /// wₖ = e^{i2π(r₀ + k·dr)}, Tₖ = Tₖ₋₁·wₖ and wₖ = wₖ₋₁·e^{i2π·dr} (three `sin_cos`;
+    /// rounding ≈ 10⁻¹⁶ per step, restarted every block). Not inlined: inlined, the
+    /// compiler hoisted its `sin_cos` into every call of [`apply_scaled`](Self::apply_scaled).
+    #[inline(never)]
+    fn build_turns(&mut self, r0: f64, dr: f64, len: usize) {
+        let tau = core::f64::consts::TAU;
+        let (ws, wc) = (tau * r0).sin_cos();
+        let (mut wr, mut wi) = (wc, ws);
+        let (mut zr, mut zi) = (1.0f64, 0.0f64);
+        if dr == 0.0 {
+            for (re, im) in self.turn_re[..len].iter_mut().zip(&mut self.turn_im[..len]) {
+                let nzr = zr * wr - zi * wi;
+                zi = zr * wi + zi * wr;
+                zr = nzr;
+                *re = zr;
+                *im = zi;
+            }
+            return;
+        }
+        let (cs, cc) = (tau * dr).sin_cos();
+        for (re, im) in self.turn_re[..len].iter_mut().zip(&mut self.turn_im[..len]) {
             let nwr = wr * cc - wi * cs;
             wi = wr * cs + wi * cc;
             wr = nwr;
             let nzr = zr * wr - zi * wi;
             zi = zr * wi + zi * wr;
             zr = nzr;
-            let g = 1.0 + m * zi as f32;
-            *s *= g;
+            *re = zr;
+            *im = zi;
         }
-        self.phase = self.phase.rem_euclid(1.0);
+    }
+}
+
+/// xₖ ← xₖ·Lₖ with L ramping linearly from `gain.0` (exclusive) to `gain.1` over the block;
+/// a constant 1 is skipped.
+fn scale(x: &mut [f32], gain: (f32, f32)) {
+    let (l0, l1) = gain;
+    if l0 == l1 {
+        if l1 != 1.0 {
+            x.iter_mut().for_each(|s| *s *= l1);
+        }
+        return;
+    }
+    let d = (l1 - l0) / x.len() as f32;
+    for (k, s) in x.iter_mut().enumerate() {
+        *s *= l0 + (k + 1) as f32 * d;
     }
 }
 

@@ -213,19 +213,26 @@ impl PulseTrain {
 
     /// Drop the next `n` samples (as [`read`](Self::read) into nowhere) and advance.
     pub fn discard(&mut self, n: usize) {
-        for _ in 0..n {
-            self.ring[self.pos] = 0.0;
-            self.pos = (self.pos + 1) & self.mask;
+        let mut done = 0;
+        while done < n {
+            let take = (n - done).min(self.ring.len() - self.pos);
+            self.ring[self.pos..self.pos + take].fill(0.0);
+            self.pos = (self.pos + take) & self.mask;
+            done += take;
         }
     }
 
     /// Move the next `out.len()` samples into `out` (overwriting it) and advance.
     pub fn read(&mut self, out: &mut [f32]) {
-        for o in out.iter_mut() {
-            let slot = &mut self.ring[self.pos];
-            *o = *slot;
-            *slot = 0.0;
-            self.pos = (self.pos + 1) & self.mask;
+        let mut done = 0;
+        while done < out.len() {
+            // The ring's contiguous part from the read position, at most to its end.
+            let take = (out.len() - done).min(self.ring.len() - self.pos);
+            let slots = &mut self.ring[self.pos..self.pos + take];
+            out[done..done + take].copy_from_slice(slots);
+            slots.fill(0.0);
+            self.pos = (self.pos + take) & self.mask;
+            done += take;
         }
     }
 }

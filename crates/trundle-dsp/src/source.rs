@@ -205,6 +205,10 @@ pub struct Source {
     pending: ActionStep,
     am: Modulator,
     lp: Lowpass,
+    /// The (V, S, c) of the last chunk's end and its gain L(V)·G(S)/c.
+    level_at: ([f64; 3], f32),
+    /// The (V, c, f_s) the low-pass's cutoff was last set for.
+    lp_for: (f64, f64, f64),
     /// Samples elapsed since reset (exact in f64 for 2⁵³ samples: 740 years at 384 kHz).
     origin: f64,
     size: Smoother,
@@ -266,6 +270,8 @@ impl Source {
             },
             am: Modulator::new(),
             lp: Lowpass::new(),
+            level_at: ([f64::NAN; 3], 0.0),
+            lp_for: (f64::NAN, f64::NAN, f64::NAN),
             origin: 0.0,
             size: Smoother::new(controls.size),
             velocity: Smoother::new(controls.velocity),
@@ -538,35 +544,37 @@ impl Source {
         }
 
         // Loudness L(V), interpolated per sample, and the contact's 1/c (the pulse keeps its
-        // area: a shorter contact is taller).
-        let (l0, l1) = (
-            (loudness(v0) * size_gain(s0) / c0) as f32,
-            (loudness(v1) * size_gain(s1) / c1) as f32,
-        );
-        if l0 == l1 {
-            if l1 != 1.0 {
-                out.iter_mut().for_each(|x| *x *= l1);
-            }
+        // area: a shorter contact is taller), then the AM, ν_m = 3V/S (TASLP eq 17), depth
+        // constant or ∝ V² (Rath §5): one pass over the chunk.
+        // (Two `powf` a chunk, kept from the last chunk's end while V, S and c stay put.)
+        let level = |v: f64, s: f64, c: f64| (loudness(v) * size_gain(s) / c) as f32;
+        let (at, l_at) = self.level_at;
+        let l0 = if at == [v0, s0, c0] {
+            l_at
         } else {
-            let d = (l1 - l0) / n as f32;
-            let mut l = l0;
-            for x in out.iter_mut() {
-                l += d;
-                *x *= l;
-            }
-        }
-        // AM, ν_m = 3V/S (TASLP eq 17); depth constant or ∝ V² (Rath §5).
+            level(v0, s0, c0)
+        };
+        let l1 = if [v1, s1, c1] == [v0, s0, c0] {
+            l0
+        } else {
+            level(v1, s1, c1)
+        };
+        self.level_at = ([v1, s1, c1], l1);
         let law = self.asymmetry_law;
-        self.am.apply(
+        self.am.apply_scaled(
             out,
+            (l0, l1),
             (
                 depth_at(law, m0, v0, s0) as f32,
                 depth_at(law, m1, v1, s1) as f32,
             ),
             (rate_hz(v0, s0) / fs, rate_hz(v1, s1) / fs),
         );
-        // Velocity low-pass.
-        self.lp.set_cutoff(cutoff_hz(v1) / c1, fs);
+        // Velocity low-pass (its coefficients are recomputed only when f_c moved).
+        if self.lp_for != (v1, c1, fs) {
+            self.lp.set_cutoff(cutoff_hz(v1) / c1, fs);
+            self.lp_for = (v1, c1, fs);
+        }
         self.lp.process(out);
 
         self.next_center -= n as f64;
