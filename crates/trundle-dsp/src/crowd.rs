@@ -48,7 +48,7 @@
 //!
 //! Cost: a detailed ball costs a whole source (~12 ns a sample); a merged ball costs a
 //! compare per chunk and, per impact, one series draw and one pulse — a thousand balls at
-//! the default scene run ~20× faster than real time with the object (`trundle bench`,
+//! the default scene run ~25× faster than real time with the object (`trundle bench`,
 //! `balls_1000_realtime_factor`; the detail trade is measured in README "Speed and
 //! accuracy"). Balls join the merged process at most [`JOINS_PER_CHUNK`] a chunk (each
 //! warms its series up from the zero state), so a jump from 1 to 1000 balls pours in over
@@ -172,6 +172,9 @@ struct Merged {
     /// Each ball's next impact centre, in samples from the next output sample (only the
     /// merged balls' clocks run).
     next_center: Vec<f64>,
+    /// Each ball's L(Vᵢ)·G(Sᵢ) and Sᵢ/S, and the (S, V, spread) they are for.
+    scale: Vec<(f64, f64)>,
+    scale_at: (f64, f64, f64),
     /// Which balls were merged at the last assignment (a ball joining starts its clock at a
     /// random phase).
     was_merged: Vec<bool>,
@@ -260,6 +263,8 @@ impl Crowd {
                 rng: SmallRng::seed_from_u64(0),
                 next_center: vec![0.0; MAX_CROWD],
                 was_merged: vec![false; MAX_CROWD],
+                scale: vec![(1.0, 1.0); MAX_CROWD],
+                scale_at: (f64::NAN, f64::NAN, f64::NAN),
                 action_at: [f64::NAN; 4],
                 action_age: 0,
                 impacts: 0,
@@ -395,6 +400,7 @@ impl Crowd {
         self.merged_count = 0;
         self.merged_cutoff_at = (f64::NAN, f64::NAN);
         self.budget_at = [f64::NAN; 3];
+        self.merged.scale_at = (f64::NAN, f64::NAN, f64::NAN);
         let m = &mut self.merged;
         let mean_interval = m.series.params().expected_mean_interval_s() * self.fs;
         let mut joins = 0;
@@ -619,17 +625,27 @@ impl Crowd {
             let ap = *m.series.params();
             let k = SPREAD_LN_SIGMA * self.controls.spread;
             let gain = ap.pulse_gain * ap.level_gain / c1 * played_gain;
+            if (s1, v1, self.controls.spread) != m.scale_at {
+                // Each merged ball's level L(Vᵢ)·G(Sᵢ) and size ratio Sᵢ/S, computed again
+                // only when S, V or the spread move (not per impact).
+                m.scale_at = (s1, v1, self.controls.spread);
+                for &b in &self.merged_balls[..members] {
+                    let j = usize::from(b);
+                    let sc = self.scatter[j];
+                    let size = (s1 * (k * f64::from(sc.size)).exp()).clamp(0.1, 1.0);
+                    let speed = (v1 * (k * f64::from(sc.speed)).exp()).clamp(0.0, 1.0);
+                    m.scale[j] = (loudness(speed) * size_gain(size), size / s1);
+                }
+            }
             for &b in &self.merged_balls[..played] {
                 let j = usize::from(b);
                 let mut t = m.next_center[j];
                 if t - lead < nf {
-                    let sc = self.scatter[j];
-                    let size = (s1 * (k * f64::from(sc.size)).exp()).clamp(0.1, 1.0);
-                    let speed = (v1 * (k * f64::from(sc.speed)).exp()).clamp(0.0, 1.0);
-                    let g = gain * loudness(speed) * size_gain(size);
-                    let group = sc.group();
+                    let (level, size_ratio) = m.scale[j];
+                    let g = gain * level;
+                    let group = self.scatter[j].group();
                     // ζ ∝ S (eq 16): the scene's ζ scaled to this ball's size.
-                    let zeta_s = ap.zeta_s * (size / s1) * c1;
+                    let zeta_s = ap.zeta_s * size_ratio * c1;
                     while t - lead < nf {
                         let step = m.series.next_impact_with(&mut m.states[j]);
                         let t0 = duration_s(zeta_s, ap.theta, step.amplitude.abs());
