@@ -623,7 +623,6 @@ impl Crowd {
         let nf = n as f64;
         if members > 0 && !(v0 == 0.0 && v1 == 0.0) {
             let ap = *m.series.params();
-            let k = SPREAD_LN_SIGMA * self.controls.spread;
             let gain = ap.pulse_gain * ap.level_gain / c1 * played_gain;
             if (s1, v1, self.controls.spread) != m.scale_at {
                 // Each merged ball's level L(Vᵢ)·G(Sᵢ) and size ratio Sᵢ/S, computed again
@@ -631,9 +630,7 @@ impl Crowd {
                 m.scale_at = (s1, v1, self.controls.spread);
                 for &b in &self.merged_balls[..members] {
                     let j = usize::from(b);
-                    let sc = self.scatter[j];
-                    let size = (s1 * (k * f64::from(sc.size)).exp()).clamp(0.1, 1.0);
-                    let speed = (v1 * (k * f64::from(sc.speed)).exp()).clamp(0.0, 1.0);
+                    let (size, speed) = self.scatter[j].apply(s1, v1, self.controls.spread);
                     m.scale[j] = (loudness(speed) * size_gain(size), size / s1);
                 }
             }

@@ -211,21 +211,26 @@ pub fn levinson_solve(r: &[f64], b: &[f64]) -> Vec<f64> {
     f
 }
 
+/// The spectrum of `v` zero-padded to `fwd`'s length (linear, not circular, convolution).
+fn padded_spectrum(
+    fwd: &dyn realfft::RealToComplex<f64>,
+    v: &[f64],
+) -> Vec<realfft::num_complex::Complex<f64>> {
+    let mut buf = fwd.make_input_vec();
+    buf[..v.len()].copy_from_slice(v);
+    let mut s = fwd.make_output_vec();
+    fwd.process(&mut buf, &mut s).expect("sizes match");
+    s
+}
+
 /// Linear convolution of `x` with the short filter `f` by FFT, as long as x: yₙ = Σₖ fₖ·xₙ₋ₖ.
 fn fir_filter(x: &[f64], f: &[f64]) -> Vec<f64> {
     let n = (x.len() + f.len()).next_power_of_two();
     let mut planner = RealFftPlanner::<f64>::new();
     let fwd = planner.plan_fft_forward(n);
     let inv = planner.plan_fft_inverse(n);
-    let spec = |v: &[f64]| {
-        let mut buf = vec![0.0; n];
-        buf[..v.len()].copy_from_slice(v);
-        let mut s = fwd.make_output_vec();
-        fwd.process(&mut buf, &mut s).expect("sizes match");
-        s
-    };
-    let xs = spec(x);
-    let fsp = spec(f);
+    let xs = padded_spectrum(fwd.as_ref(), x);
+    let fsp = padded_spectrum(fwd.as_ref(), f);
     let scale = 1.0 / n as f64;
     let mut ys: Vec<_> = xs.iter().zip(&fsp).map(|(a, b)| a * b * scale).collect();
     ys[0].im = 0.0;
@@ -367,15 +372,8 @@ impl WienerInverse {
     pub fn new(x: &[f64], h: &[f64]) -> Self {
         let n = (x.len() + h.len()).next_power_of_two();
         let fwd = RealFftPlanner::<f64>::new().plan_fft_forward(n);
-        let spec = |v: &[f64]| {
-            let mut buf = vec![0.0; n];
-            buf[..v.len()].copy_from_slice(v);
-            let mut s = fwd.make_output_vec();
-            fwd.process(&mut buf, &mut s).expect("sizes match");
-            s
-        };
-        let xs = spec(x);
-        let hs = spec(h);
+        let xs = padded_spectrum(fwd.as_ref(), x);
+        let hs = padded_spectrum(fwd.as_ref(), h);
         let h2: Vec<f64> = hs.iter().map(|c| c.norm_sqr()).collect();
         let h2_max = h2.iter().fold(0.0f64, |a, &c| a.max(c));
         let xh = xs.iter().zip(&hs).map(|(xv, hv)| xv * hv.conj()).collect();
