@@ -35,7 +35,7 @@ const LEVEL_FLOOR_RMS: f64 = 1.0e-3;
 /// measured peak over all renders is below 1.0); a runaway resonance does not.
 const PEAK_LIMIT: f32 = 16.0;
 /// The voice's chunk (automation grid): 64 samples.
-const CHUNK: usize = trundle_dsp::CHUNK;
+const CHUNK: usize = trundle_dsp::block::CHUNK;
 
 fn db(x: f64) -> f64 {
     20.0 * x.max(1e-300).log10()

@@ -2,7 +2,7 @@
 //! the same samples, without the object file; a corrupt object loses nothing else.
 
 use trundle_dsp::object::fitted;
-use trundle_dsp::preset::Preset;
+use trundle_dsp::scene::preset::Preset;
 use trundle_tests::check::{
     first_difference, load_bundle, new_instance, render, rms, state_bytes, state_json,
 };

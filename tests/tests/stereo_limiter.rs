@@ -7,8 +7,8 @@
 
 use rand::rngs::SmallRng;
 use rand::SeedableRng;
-use trundle_dsp::limiter::{Limiter, CEILING_DB};
 use trundle_dsp::params::ParamKind;
+use trundle_dsp::scene::limiter::{Limiter, CEILING_DB};
 use trundle_dsp::{Params, Voice, PARAMS};
 use trundle_tests::check::{first_difference, id, load_bundle, new_instance, peak, plain};
 use trundle_tests::{Block, Bundle, Instance, Transport};

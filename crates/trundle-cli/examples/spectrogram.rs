@@ -7,7 +7,7 @@
 
 use plotters::prelude::*;
 use realfft::RealFftPlanner;
-use trundle_dsp::preset::Preset;
+use trundle_dsp::scene::preset::Preset;
 use trundle_dsp::Voice;
 
 const FS: f64 = 48_000.0;

@@ -18,7 +18,7 @@ use crate::output::CSV_HEADER;
 use crate::stats::{impacts_of, Series, DEFAULT_THRESHOLD};
 use std::fs;
 use std::path::Path;
-use trundle_dsp::analysis::Impact;
+use trundle_dsp::analysis::impacts::Impact;
 
 /// Arguments of `trundle analyze`.
 #[derive(clap::Args, Debug)]

@@ -11,9 +11,9 @@
 //! | `high_band_cost_ratio` | the first over the second: what the full band costs (target ≤ 1.3) |
 //! | `physics_ns_per_sample` | the same with `engine = physics` |
 //! | `scene16_ns_per_sample` | 16 default voices (seeds 1…16) summed: sixteen balls on sixteen objects |
-//! | `balls16_ns_per_sample` | one voice with 16 extra balls on its object ([`trundle_dsp::balls`]) |
-//! | `balls_1000_ns_per_sample`, `balls_1000_realtime_factor` | one voice with `crowd = 1000` ([`trundle_dsp::crowd`]: 8 detailed balls, 991 merged) on its 32-mode object, and its real-time factor on one core (target ≥ 2) |
-//! | `source_ns_per_sample` | the signal source alone ([`trundle_dsp::source::Source`]: series, pulses, AM, velocity low-pass) at the default controls, in chunks of [`CHUNK`]: no position stage, DC blocker or bank |
+//! | `balls16_ns_per_sample` | one voice with 16 extra balls on its object ([`trundle_dsp::scene::balls`]) |
+//! | `balls_1000_ns_per_sample`, `balls_1000_realtime_factor` | one voice with `crowd = 1000` ([`trundle_dsp::scene::crowd`]: 8 detailed balls, 991 merged) on its 32-mode object, and its real-time factor on one core (target ≥ 2) |
+//! | `source_ns_per_sample` | the signal source alone ([`trundle_dsp::source::chain::Source`]: series, pulses, AM, velocity low-pass) at the default controls, in chunks of [`CHUNK`]: no position stage, DC blocker or bank |
 //! | `idle_ns_per_sample` | a voice whose ball is at rest and whose object has rung out |
 //!
 //! plus the bank and the voice at 8/32/128 modes, the real-time factor (seconds of audio
@@ -27,9 +27,11 @@ use std::time::{Duration, Instant};
 
 use clap::Args;
 use serde_json::json;
-use trundle_dsp::modal::{phasor_coeffs, Kernel, ModalBank, ModeCoeffs};
-use trundle_dsp::source::{Source, SourceControls};
-use trundle_dsp::{ParamId, Params, Voice, CHUNK};
+use trundle_dsp::block::CHUNK;
+use trundle_dsp::object::bank::{phasor_coeffs, ModalBank, ModeCoeffs};
+use trundle_dsp::object::kernels::Kernel;
+use trundle_dsp::source::chain::{Source, SourceControls};
+use trundle_dsp::{ParamId, Params, Voice};
 
 use crate::error::{failure, CliError};
 

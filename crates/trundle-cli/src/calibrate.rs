@@ -18,7 +18,7 @@
 //!   J(ρ) = Σ ((x_signal(ρ) − x_physics)/x_physics)² over x ∈ {μ_Δ, sd_Δ, cv_A}.
 //! - **S**: the median pulse duration scales linearly with S (eq 16), so S ← S·t₀,phys/t₀,sig,
 //!   twice (before and after the ρ search), clamped to [0.1, 1].
-//! - **V** = v / (0.4 m/s), the engine mapping ([`trundle_dsp::engine`]); asymmetry 0 (the
+//! - **V** = v / (0.4 m/s), the engine mapping ([`trundle_dsp::physics::mapping`]); asymmetry 0 (the
 //!   physical ball is round).
 //!
 //! The output says how close it got: each statistic of the physics, of the calibrated
@@ -32,9 +32,9 @@ use crate::stats::{impacts_of, Series, DEFAULT_THRESHOLD};
 use serde_json::{json, Value};
 use std::io::Write;
 use std::path::PathBuf;
-use trundle_dsp::engine::SPEED_PER_VELOCITY_M_S;
+use trundle_dsp::physics::mapping::SPEED_PER_VELOCITY_M_S;
 use trundle_dsp::physics::PhysicsSettings;
-use trundle_dsp::preset::Preset;
+use trundle_dsp::scene::preset::Preset;
 use trundle_dsp::{ParamId, Params, Voice};
 
 /// Length of each signal-engine render of the search (s): ≈ 2000 impacts, enough for the

@@ -16,7 +16,8 @@ use serde_json::json;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use trundle_dsp::fit::{fit_strike, json::to_json, resynthesize, FittedObject};
-use trundle_dsp::object::fitted::{impulse_response, LoadedObject, ObjectFile};
+use trundle_dsp::object::fitted::{LoadedObject, ObjectFile};
+use trundle_dsp::scene::impulse::impulse_response;
 
 /// Arguments of `trundle fit-object`.
 #[derive(clap::Args, Debug)]

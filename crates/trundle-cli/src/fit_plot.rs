@@ -8,7 +8,7 @@
 use crate::atomic::TempFile;
 use crate::error::{failure, quote, CliError};
 use std::path::Path;
-use trundle_dsp::fit::envelope::stft_power;
+use trundle_dsp::analysis::stft::stft_power;
 
 /// Picture size (pixels).
 pub const SIZE: (u32, u32) = (1200, 520);
@@ -25,7 +25,7 @@ const TICKS_HZ: [f64; 9] = [
 ];
 
 /// Short-time power spectra in dB (Hann, ≈ 21 ms frames, hop ¼: the fit's own STFT,
-/// [`trundle_dsp::fit::envelope::stft_power`]): (frames × bins, frame length, hop).
+/// [`trundle_dsp::analysis::stft::stft_power`]): (frames × bins, frame length, hop).
 fn stft_db(x: &[f64], fs: f64) -> (Vec<Vec<f64>>, usize, usize) {
     let (mut frames, len, hop) = stft_power(x, fs, 4);
     for v in frames.iter_mut().flatten() {

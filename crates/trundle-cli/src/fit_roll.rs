@@ -17,12 +17,13 @@ use crate::output::check_destination;
 use crate::stats::{impacts_of, Series, DEFAULT_THRESHOLD};
 use serde_json::json;
 use std::path::PathBuf;
-use trundle_dsp::contact::BallMaterial;
+use trundle_dsp::fit::deconvolve::{med_inverse, WienerInverse};
 use trundle_dsp::fit::json::from_json;
-use trundle_dsp::fit::roll::{fit_roll_with, med_inverse, Action, RollOptions, WienerInverse};
+use trundle_dsp::fit::roll::{fit_roll_with, Action, RollOptions};
 use trundle_dsp::fit::{log_spectral_distance_db, resynthesize};
 use trundle_dsp::params::ParamEnum;
-use trundle_dsp::preset::Preset;
+use trundle_dsp::scene::preset::Preset;
+use trundle_dsp::source::contact::BallMaterial;
 use trundle_dsp::{ParamId, Params, Voice};
 
 /// Arguments of `trundle fit-roll`.

@@ -7,7 +7,7 @@
 //!   channels of a stereo render, one gain for both — sits at the target (−1 dBFS unless
 //!   `--normalize-db` says otherwise; the target must be ≤ 0 dBFS);
 //! * **calibrated** (`--no-normalize`), `limiter = on` (the default): the engine's level
-//!   goes through the core's look-ahead safety limiter ([`trundle_dsp::limiter::Limiter`],
+//!   goes through the core's look-ahead safety limiter ([`trundle_dsp::scene::limiter::Limiter`],
 //!   stereo-linked, ceiling −1 dBFS) with its latency compensated ([`AlignedLimiter`]): the
 //!   file is time-aligned with the render, and a render the limiter does not touch is
 //!   written sample for sample as the engine made it;
@@ -24,7 +24,7 @@
 //! and per sample, so neither depends on the render's block size and a render is
 //! reproducible sample for sample. The command reports how many samples each touched.
 
-use trundle_dsp::limiter::Limiter;
+use trundle_dsp::scene::limiter::Limiter;
 
 /// Linear amplitude of `db` decibels.
 pub fn db_to_lin(db: f64) -> f64 {

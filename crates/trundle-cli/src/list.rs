@@ -4,7 +4,7 @@
 
 use serde_json::{json, Map, Value};
 use trundle_dsp::params::{ParamKind, ParamSpec, PARAMS};
-use trundle_dsp::preset::{Preset, BUILTIN_PRESETS};
+use trundle_dsp::scene::preset::{Preset, BUILTIN_PRESETS};
 
 /// The built-in presets: a table (stem, name, description), or a JSON array of
 /// `{stem, name, description, params}` (an unreadable built-in shows its error instead).

@@ -14,7 +14,7 @@ use crate::output::{check_destination, CsvOut, Format, WavOut};
 use crate::stats::impacts_of;
 use std::path::PathBuf;
 use std::time::Instant;
-use trundle_dsp::engine::mass_kg;
+use trundle_dsp::physics::mapping::mass_kg;
 use trundle_dsp::physics::{
     single_impact, PhysicsEngine, PhysicsSettings, GRAVITY_M_S2, MAX_OVERSAMPLE,
 };
@@ -76,8 +76,8 @@ impl PhysArgs {
         in_range(
             "--sample-rate",
             fs,
-            trundle_dsp::MIN_SAMPLE_RATE_HZ,
-            trundle_dsp::MAX_SAMPLE_RATE_HZ,
+            trundle_dsp::block::MIN_SAMPLE_RATE_HZ,
+            trundle_dsp::block::MAX_SAMPLE_RATE_HZ,
             " Hz",
         )?;
         in_range("--seconds", self.seconds, 1e-3, 3600.0, " s")?;

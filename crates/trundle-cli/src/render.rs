@@ -38,11 +38,14 @@ use std::io::{self, IsTerminal, Read};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;
-use trundle_dsp::events::{process_stereo_with_events, process_with_events, Scene, VoiceEvent};
-use trundle_dsp::limiter::Limiting;
 use trundle_dsp::object::fitted::{self, LoadedObject, ObjectFile};
 use trundle_dsp::params::{spec_by_key, Output, ParamEnum, ParamId};
-use trundle_dsp::preset::{Lane, Preset, DEFAULT_PRESET};
+use trundle_dsp::scene::events::{
+    process_stereo_with_events, process_with_events, Scene, VoiceEvent,
+};
+use trundle_dsp::scene::impulse;
+use trundle_dsp::scene::limiter::Limiting;
+use trundle_dsp::scene::preset::{Lane, Preset, DEFAULT_PRESET};
 use trundle_dsp::{Params, Voice};
 
 /// Length of a render unless `--seconds` says otherwise.
@@ -52,9 +55,9 @@ pub const MAX_SECONDS: f64 = 86_400.0;
 /// Sample rate unless `--sample-rate` says otherwise (Hz).
 pub const DEFAULT_SAMPLE_RATE: u32 = 48_000;
 /// Lowest `--sample-rate` (Hz), the core's limit.
-pub const MIN_SAMPLE_RATE: u32 = trundle_dsp::MIN_SAMPLE_RATE_HZ as u32;
+pub const MIN_SAMPLE_RATE: u32 = trundle_dsp::block::MIN_SAMPLE_RATE_HZ as u32;
 /// Highest `--sample-rate` (Hz), the core's limit.
-pub const MAX_SAMPLE_RATE: u32 = trundle_dsp::MAX_SAMPLE_RATE_HZ as u32;
+pub const MAX_SAMPLE_RATE: u32 = trundle_dsp::block::MAX_SAMPLE_RATE_HZ as u32;
 /// Peak target unless `--normalize-db` says otherwise (dBFS).
 pub const DEFAULT_NORMALIZE_DB: f64 = -1.0;
 /// Lowest `--normalize-db` (dBFS); below it a 24-bit file would hold mostly rounding noise.
@@ -665,7 +668,7 @@ struct Impacts {
 }
 
 /// Run the voice for `frames` frames in blocks of [`BLOCK`], the preset's automation and
-/// ball notes applied by the core's event loop ([`trundle_dsp::events`]): in stereo
+/// ball notes applied by the core's event loop ([`trundle_dsp::scene::events`]): in stereo
 /// ([`process_stereo_with_events`]) when `plan.channels` is 2, else the mono mix
 /// ([`process_with_events`]). Drain impacts after each block; count and zero non-finite
 /// samples (the voice flushes them itself: this only guards the file); hand each block to
@@ -997,7 +1000,7 @@ fn execute(plan: &Plan) -> Result<String, CliError> {
 /// level behind the never-clip guard with --no-normalize).
 fn execute_impulse(plan: &Plan) -> Result<String, CliError> {
     let fs = plan.sample_rate;
-    let (l, r) = fitted::impulse_response(
+    let (l, r) = impulse::impulse_response(
         &plan.params,
         plan.object.clone(),
         f64::from(fs),

@@ -1,13 +1,13 @@
 //! Impact-series statistics shared by `analyze`, `calibrate` and `tradeoff`.
 //!
-//! The analysis itself is [`trundle_dsp::analysis`] (TASLP §IV-B1, §IV-E): impacts → Aⁿ,
+//! The analysis itself is [`trundle_dsp::analysis::impacts`] (TASLP §IV-B1, §IV-E): impacts → Aⁿ,
 //! Δⁿ_T → centred → ARMA(1,1) whitening by Gauss–Newton → residual σ, skewness, kurtosis,
 //! cross-correlation, and t₀ = ζ'·A^(−θ'). Here: the report built from it (text and JSON),
 //! a normality test of the residuals, and the distances used to compare two series.
 
 use crate::error::{input, CliError};
 use serde_json::{json, Value};
-use trundle_dsp::analysis::{analyze_series, extract_impacts, Impact, SeriesAnalysis};
+use trundle_dsp::analysis::impacts::{analyze_series, extract_impacts, Impact, SeriesAnalysis};
 
 /// Fewest impacts an analysis accepts: the ARMA(1,1) fit and the moments need a few dozen
 /// values to mean anything (standard error of a lag-1 correlation at N = 30 is 0.18).

@@ -28,7 +28,7 @@ use realfft::RealFftPlanner;
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use trundle_dsp::pulse::PulseEval;
+use trundle_dsp::source::pulse::PulseEval;
 use trundle_dsp::{ParamId, Params, Voice};
 
 /// Sample rate of the scene (Hz).

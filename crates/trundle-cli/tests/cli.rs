@@ -7,8 +7,8 @@
 use std::collections::BTreeMap;
 use std::fs;
 use std::path::{Path, PathBuf};
-use trundle_dsp::limiter::Limiter;
-use trundle_dsp::preset::BUILTIN_PRESETS;
+use trundle_dsp::scene::limiter::Limiter;
+use trundle_dsp::scene::preset::BUILTIN_PRESETS;
 use trundle_dsp::PARAMS;
 
 mod common;
@@ -1082,7 +1082,7 @@ fn a_preset_with_balls_renders_a_scene_of_many_balls() {
     let (_, one) = read_wav(&dir.join("one.wav"));
     let late = |x: &[f64]| rms_db(&x[x.len() / 2..]);
     // 17 balls add in power (+12 dB) and the level law scales their sum by 1/√17
-    // (`trundle_dsp::balls::level_for_balls`): as loud as one ball within the spread of
+    // (`trundle_dsp::scene::balls::level_for_balls`): as loud as one ball within the spread of
     // sizes and speeds. Without the law this is > 6 dB.
     let gain = late(&many) - late(&one);
     assert!(

@@ -365,7 +365,7 @@ fn rolls_rendered_by_trundle_are_fitted_back() {
 #[test]
 fn a_roll_on_a_known_object_is_fitted_through_its_inverse() {
     use trundle_dsp::fit::{json::to_json, FitMode, FittedObject};
-    use trundle_dsp::object::{Object, ObjectControls};
+    use trundle_dsp::object::resonator::{Object, ObjectControls};
     let d = scratch("roll-object");
     // The default parameters' object (Params defaults = ObjectControls defaults: a 1 m
     // plate at material 0.8), as an object file: each mode's impulse response is

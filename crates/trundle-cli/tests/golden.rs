@@ -14,7 +14,7 @@
 //! unless the preset turns it off), and once as the raw force (`--force-only`, mono), so a
 //! change is located on the action or the object side.
 //!
-//! The modal bank's SIMD kernels differ in the last bits (`trundle_dsp::modal::Kernel`), so
+//! The modal bank's SIMD kernels differ in the last bits (`trundle_dsp::object::kernels::Kernel`), so
 //! the hashes are recorded per kernel: the file holds one section per kernel name, and a
 //! machine whose best kernel has no section yet fails with the hashes it computed, to be
 //! added with `TRUNDLE_BLESS=1`.
@@ -23,8 +23,8 @@ use std::collections::BTreeMap;
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use trundle_dsp::modal::Kernel;
-use trundle_dsp::preset::BUILTIN_PRESETS;
+use trundle_dsp::object::kernels::Kernel;
+use trundle_dsp::scene::preset::BUILTIN_PRESETS;
 
 mod common;
 use common::BIN;

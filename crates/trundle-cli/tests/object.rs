@@ -339,7 +339,8 @@ fn third_octave_distance(a: &[f64], b: &[f64], fs: f64) -> f64 {
 fn real_strikes_are_reproduced_by_the_fitted_object() {
     use std::sync::Arc;
     use trundle_dsp::fit::{fit_strike, resynthesize};
-    use trundle_dsp::object::fitted::{impulse_response, LoadedObject, ObjectFile};
+    use trundle_dsp::object::fitted::{LoadedObject, ObjectFile};
+    use trundle_dsp::scene::impulse::impulse_response;
     if !Path::new(KITS).is_dir() {
         println!("SKIPPED: {KITS} not found — install Debian's hydrogen-drumkits");
         return;

@@ -19,8 +19,10 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{criterion_main, BenchmarkId, Criterion, Throughput};
-use trundle_dsp::modal::{phasor_coeffs, Kernel, ModalBank, ModeCoeffs};
-use trundle_dsp::{ParamId, Params, Voice, CHUNK};
+use trundle_dsp::block::CHUNK;
+use trundle_dsp::object::bank::{phasor_coeffs, ModalBank, ModeCoeffs};
+use trundle_dsp::object::kernels::Kernel;
+use trundle_dsp::{ParamId, Params, Voice};
 
 const FS: f64 = 48_000.0;
 const BLOCK: usize = 512;

@@ -8,9 +8,9 @@
 //! reference, 100 Hz–12.5 kHz (dB).
 
 use std::time::Instant;
-use trundle_dsp::crowd::{Crowd, CrowdControls};
-use trundle_dsp::source::SourceControls;
-use trundle_dsp::CHUNK;
+use trundle_dsp::block::CHUNK;
+use trundle_dsp::scene::crowd::{Crowd, CrowdControls};
+use trundle_dsp::source::chain::SourceControls;
 
 const FS: f64 = 48_000.0;
 const SECONDS: f64 = 10.0;

@@ -9,10 +9,12 @@
 //! * fast automation across the whole disk stays finite, click-free and allocation-free.
 
 use realfft::RealFftPlanner;
-use trundle_dsp::action::{ActionParams, Mixture, SCRATCH_MEAN_INTERVAL_S};
-use trundle_dsp::space::{image_sources, Space, SpaceControls, Trajectory};
+use trundle_dsp::scene::space::{image_sources, Space, SpaceControls, Trajectory};
+use trundle_dsp::source::density::Mixture;
+use trundle_dsp::source::prototype::{ActionParams, SCRATCH_MEAN_INTERVAL_S};
 
-use trundle_dsp::{disk, ImpactRecord, ParamId, Params, Voice};
+use trundle_dsp::object::disk;
+use trundle_dsp::{ImpactRecord, ParamId, Params, Voice};
 
 mod common;
 use common::allocations_during;

@@ -1,8 +1,8 @@
-//! Many balls on one object (`trundle_dsp::balls`): 16 balls at once render finite,
+//! Many balls on one object (`trundle_dsp::scene::balls`): 16 balls at once render finite,
 //! bounded and allocation-free; the same note sequence gives the same samples; stopped balls
 //! free their slots and the object rings out into silence.
 
-use trundle_dsp::balls::{BallId, BallTarget, Expression};
+use trundle_dsp::scene::balls::{BallId, BallTarget, Expression};
 use trundle_dsp::{ParamId, Params, Voice};
 
 mod common;
@@ -91,7 +91,7 @@ fn the_same_notes_give_the_same_samples_and_stopped_balls_fall_silent() {
     assert!(a == b, "block size or run changed the samples");
     // The main ball keeps rolling (default velocity), so compare the tail with a voice
     // that never had extra balls: once every ball has rolled to rest (told to stop by
-    // 2.75 s, at rest about 1.1 s later: `balls::STOP_DECELERATION_M_S2`) and the object
+    // 2.75 s, at rest about 1.1 s later: `stop::STOP_DECELERATION_M_S2`) and the object
     // has rung out, only the main ball's sound remains — and it must be that exact sound
     // up to the object's decaying tail.
     let p = {

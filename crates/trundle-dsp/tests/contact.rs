@@ -1,12 +1,12 @@
-//! The contact sets the brightness (issue #17, `trundle_dsp::contact`): the force of every
+//! The contact sets the brightness (issue #17, `trundle_dsp::source::contact`): the force of every
 //! ball material on every object material, rendered and measured. A steel ball on metal or
 //! glass makes a force whose −20 dB bandwidth reaches 8 kHz or more; rubber on wood stays
 //! under 3 kHz; in between the bandwidth follows the Hertz contact (the shorter the contact,
 //! the wider the band), in both engines' laws.
 
 use realfft::RealFftPlanner;
-use trundle_dsp::contact::{contact_scale_for, BallMaterial};
 use trundle_dsp::params::{Output, ParamEnum};
+use trundle_dsp::source::contact::{contact_scale_for, BallMaterial};
 use trundle_dsp::{ParamId, Params, Voice};
 
 const FS: f64 = 48_000.0;
@@ -79,8 +79,8 @@ fn bandwidth_20db_hz(x: &[f32]) -> f64 {
 fn the_contact_sets_the_force_bandwidth() {
     let objects = [
         ("wood", (1.0, 0.0)),
-        ("metal", trundle_dsp::disk::anchor(1)),
-        ("glass", trundle_dsp::disk::anchor(2)),
+        ("metal", trundle_dsp::object::disk::anchor(1)),
+        ("glass", trundle_dsp::object::disk::anchor(2)),
     ];
     let mut failures = Vec::new();
     for (name, m) in objects {

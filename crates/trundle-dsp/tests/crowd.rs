@@ -1,12 +1,13 @@
-//! A thousand balls (`trundle_dsp::crowd`): the merged impact process has the summed rate of
+//! A thousand balls (`trundle_dsp::scene::crowd`): the merged impact process has the summed rate of
 //! the balls it stands for, Poisson intervals (Palm–Khintchine) and the level they would
 //! have; a crowd with few detailed balls sounds like the same crowd all detailed (third
 //! octaves); the voice plays a crowd deterministically, at any block size, allocation-free,
 //! and with `crowd = 1` exactly as before.
 
-use trundle_dsp::crowd::{Crowd, CrowdControls, MAX_CROWD};
-use trundle_dsp::source::{Source, SourceControls};
-use trundle_dsp::{ParamId, Params, Voice, CHUNK};
+use trundle_dsp::block::CHUNK;
+use trundle_dsp::scene::crowd::{Crowd, CrowdControls, MAX_CROWD};
+use trundle_dsp::source::chain::{Source, SourceControls};
+use trundle_dsp::{ParamId, Params, Voice};
 
 mod common;
 use common::allocations_during;
@@ -247,7 +248,7 @@ fn a_crowd_of_one_is_the_ball_alone_and_a_crowd_keeps_one_balls_level() {
 
 #[test]
 fn a_dense_crowd_keeps_its_level_within_the_impact_budget() {
-    use trundle_dsp::crowd::MAX_MERGED_IMPACTS_PER_S;
+    use trundle_dsp::scene::crowd::MAX_MERGED_IMPACTS_PER_S;
     // A rub (the action disk's angle 0): tens of thousands of impacts a second per ball. A
     // thousand rubbing balls would make ~5·10⁷; the merged process plays the loudest few
     // within the budget, louder by √(W_M/W_K), so the crowd keeps its level.

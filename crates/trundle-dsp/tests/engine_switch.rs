@@ -1,9 +1,10 @@
-//! The engine choice in the voice (`engine` = signal | physics, [`trundle_dsp::engine`]):
+//! The engine choice in the voice (`engine` = signal | physics, [`trundle_dsp::physics::mapping`]):
 //! one level for both engines, the crossfade when switching while playing (measured sample
 //! by sample), no clicks and no blow-up when switching, and no allocation.
 
-use trundle_dsp::engine::ENGINE_CROSSFADE_S;
-use trundle_dsp::{ParamId, Params, Voice, CHUNK};
+use trundle_dsp::block::CHUNK;
+use trundle_dsp::physics::mapping::ENGINE_CROSSFADE_S;
+use trundle_dsp::{ParamId, Params, Voice};
 
 // Allocation counter (per thread, so parallel tests do not disturb each other).
 mod common;

@@ -1,13 +1,14 @@
-//! The core's one event loop (`trundle_dsp::events`) driven the way the plugin and the CLI
+//! The core's one event loop (`trundle_dsp::scene::events`) driven the way the plugin and the CLI
 //! drive it: the samples do not depend on how the host cuts its blocks (every size 1…8192,
 //! and sizes changing every block), an event is never heard before its sample and lands on
-//! the voice's control grid ([`trundle_dsp::CHUNK`] samples) right after it, and nothing
+//! the voice's control grid ([`trundle_dsp::block::CHUNK`] samples) right after it, and nothing
 //! allocates while events are applied and blocks rendered.
 
 use rand::rngs::SmallRng;
 use rand::{Rng, SeedableRng};
-use trundle_dsp::events::{process_with_events, TimedEvent, VoiceEvent};
-use trundle_dsp::{ParamId, Params, Voice, CHUNK};
+use trundle_dsp::block::CHUNK;
+use trundle_dsp::scene::events::{process_with_events, TimedEvent, VoiceEvent};
+use trundle_dsp::{ParamId, Params, Voice};
 
 mod common;
 use common::allocations_during;
@@ -146,8 +147,8 @@ fn an_event_takes_effect_at_the_first_chunk_boundary_at_or_after_its_sample() {
 #[test]
 fn a_scene_with_every_block_size_renders_the_same_samples() {
     {
-        use trundle_dsp::events::Scene;
-        use trundle_dsp::preset::Lane;
+        use trundle_dsp::scene::events::Scene;
+        use trundle_dsp::scene::preset::Lane;
         let lanes = [Lane {
             id: ParamId::Velocity,
             points: vec![(0.0, 0.1), (0.5, 1.0), (1.0, 0.3)],

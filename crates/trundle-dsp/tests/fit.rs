@@ -16,8 +16,8 @@ use rand::rngs::SmallRng;
 use rand::{Rng, SeedableRng};
 use rand_distr::{Distribution, StandardNormal};
 use trundle_dsp::fit::{fit_strike, FitError, FitMode, FittedObject};
-use trundle_dsp::object::{Object, ObjectControls};
-use trundle_dsp::shape::Shape;
+use trundle_dsp::object::resonator::{Object, ObjectControls};
+use trundle_dsp::object::shape::Shape;
 
 struct Truth {
     freq_hz: f64,
@@ -181,20 +181,21 @@ fn damped_sinusoids_are_fitted_back() {
     }
 }
 
-/// The impulse response of an [`Object`] (`seconds` long, chunks of [`trundle_dsp::CHUNK`]
+/// The impulse response of an [`Object`] (`seconds` long, chunks of [`trundle_dsp::block::CHUNK`]
 /// as the voice drives it) and its sounding modes as set.
 fn object_ir(fs: f64, c: ObjectControls, seconds: f64) -> (Vec<f64>, Vec<Truth>) {
     // The explicit modes alone (the truth), without the high band's representatives.
     let mut obj = Object::new(fs, c);
     obj.set_high_band(false);
     obj.snap_controls();
-    let n = ((seconds * fs) as usize).div_ceil(trundle_dsp::CHUNK) * trundle_dsp::CHUNK;
+    let n =
+        ((seconds * fs) as usize).div_ceil(trundle_dsp::block::CHUNK) * trundle_dsp::block::CHUNK;
     let mut force = vec![0f32; n];
     force[0] = 1.0;
     let mut out = vec![0f32; n];
     for (f, o) in force
-        .chunks(trundle_dsp::CHUNK)
-        .zip(out.chunks_mut(trundle_dsp::CHUNK))
+        .chunks(trundle_dsp::block::CHUNK)
+        .zip(out.chunks_mut(trundle_dsp::block::CHUNK))
     {
         obj.process_chunk(f, o);
     }
@@ -215,8 +216,8 @@ fn object_ir(fs: f64, c: ObjectControls, seconds: f64) -> (Vec<f64>, Vec<Truth>)
 
 #[test]
 fn trundle_objects_are_fitted_back() {
-    let glass = trundle_dsp::disk::anchor(2);
-    let metal = trundle_dsp::disk::anchor(1);
+    let glass = trundle_dsp::object::disk::anchor(2);
+    let metal = trundle_dsp::object::disk::anchor(1);
     for (label, fs, c, seconds) in [
         (
             "glass bar 0.5 m, 48 kHz",

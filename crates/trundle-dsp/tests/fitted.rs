@@ -18,9 +18,10 @@ use rand::{Rng, SeedableRng};
 use rand_distr::{Distribution, StandardNormal};
 use std::sync::Arc;
 use trundle_dsp::fit::{fit_strike, FitMode, FittedObject};
-use trundle_dsp::object::fitted::{impulse_response, LoadedObject, ObjectFile};
-use trundle_dsp::object::Quality;
+use trundle_dsp::object::fitted::{LoadedObject, ObjectFile};
+use trundle_dsp::object::quality::Quality;
 use trundle_dsp::params::ParamEnum;
+use trundle_dsp::scene::impulse::impulse_response;
 use trundle_dsp::{ParamId, Params};
 
 fn cents(a: f64, b: f64) -> f64 {
@@ -285,7 +286,7 @@ fn quality_caps_the_explicit_modes_and_keeps_the_energy() {
         println!("{q:?}: energy {db:+.2} dB re reference");
         assert!(db.abs() < 1.0, "{q:?} {db}");
     }
-    let mut o = trundle_dsp::object::Object::new(fs, Default::default());
+    let mut o = trundle_dsp::object::resonator::Object::new(fs, Default::default());
     o.set_quality(Quality::Draft);
     o.set_loaded(Some(obj));
     o.reset();
@@ -319,7 +320,10 @@ fn decay_scales_decays_and_the_defaults_play_the_object_as_fitted() {
     // Transposition: object_size 0.5 → an octave up.
     let mut p = Params::default();
     p.set(ParamId::ObjectSize, 0.5).unwrap();
-    let mut o = trundle_dsp::object::Object::new(fs, trundle_dsp::voice::object_controls(&p));
+    let mut o = trundle_dsp::object::resonator::Object::new(
+        fs,
+        trundle_dsp::scene::voice::object_controls(&p),
+    );
     o.set_loaded(Some(loaded(t.clone())));
     o.reset();
     assert!(o

@@ -18,9 +18,9 @@
 use realfft::RealFftPlanner;
 mod scene;
 use scene::render_scene;
-use trundle_dsp::object::Quality;
+use trundle_dsp::object::quality::Quality;
 use trundle_dsp::params::ParamEnum;
-use trundle_dsp::preset::{Preset, BUILTIN_PRESETS};
+use trundle_dsp::scene::preset::{Preset, BUILTIN_PRESETS};
 use trundle_dsp::{ParamId, Params, Voice};
 
 const FS: f64 = 48_000.0;

@@ -13,7 +13,7 @@
 use rand::rngs::SmallRng;
 use rand::{Rng, SeedableRng};
 use trundle_dsp::params::PARAMS;
-use trundle_dsp::preset::{Preset, BUILTIN_PRESETS};
+use trundle_dsp::scene::preset::{Preset, BUILTIN_PRESETS};
 
 const CASES: usize = 60_000;
 

@@ -3,8 +3,8 @@
 //! settle, seams clicked at V/spacing, the spin's contact rate rising, no clicks at the
 //! phase changes, the gravity paths, no allocation, and every existing sound unchanged.
 
-use trundle_dsp::gesture::{first_impact_s, impact_speed, GRAVITY_M_S2};
-use trundle_dsp::source::ImpactRecord;
+use trundle_dsp::scene::gesture::{first_impact_s, impact_speed, GRAVITY_M_S2};
+use trundle_dsp::source::chain::ImpactRecord;
 use trundle_dsp::{ParamId, Params, Voice};
 
 mod common;
@@ -215,7 +215,7 @@ fn no_clicks_at_the_phase_changes() {
     // The last distinct bounce (flight ≥ 4 ms) and the hand-over.
     let mut t = first_impact_s(0.3);
     let mut v = v0;
-    while 2.0 * e * v / GRAVITY_M_S2 >= trundle_dsp::gesture::CHATTER_S {
+    while 2.0 * e * v / GRAVITY_M_S2 >= trundle_dsp::scene::gesture::CHATTER_S {
         t += 2.0 * e * v / GRAVITY_M_S2;
         v *= e;
     }
@@ -462,7 +462,7 @@ fn grit_rate_follows_amount_and_speed() {
         let (_, a) = render(&plain, 4.0);
         let (_, b) = render(&gritty, 4.0);
         let grains = b.iter().filter(|r| !a.iter().any(|q| q == *r)).count() as f64;
-        let want = trundle_dsp::gesture::GRIT_PER_M * grit * v * 4.0;
+        let want = trundle_dsp::scene::gesture::GRIT_PER_M * grit * v * 4.0;
         println!(
             "grit {grit} V {v}: {grains} grains in 4 s, expected {want} ({:+.1} %)",
             100.0 * (grains / want - 1.0)
@@ -484,7 +484,7 @@ fn a_note_drops_a_ball_in_a_drop_scene() {
     let mut y = vec![0f32; (0.6 * FS) as usize];
     v.note_on(60, 0.2);
     v.process(&mut y);
-    let h = trundle_dsp::gesture::height_for_note(0.2);
+    let h = trundle_dsp::scene::gesture::height_for_note(0.2);
     let (t1, v0) = (first_impact_s(h), impact_speed(h));
     let max = y.iter().fold(0f32, |m, s| m.max(s.abs()));
     let found = peaks(&y, 0.0, 0.6, 0.05 * max);

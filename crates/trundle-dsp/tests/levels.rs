@@ -1,13 +1,13 @@
 //! Levels a mixing engineer trusts (issue #12): every built-in preset's voice output (both
 //! channels, no limiter, no normalization) stays below 0 dBFS, and so do sixteen balls at
 //! full note velocity on the default scene, by the level law for summed balls
-//! (`trundle_dsp::balls`), and the safety limiter rarely has anything to do.
+//! (`trundle_dsp::scene::balls`), and the safety limiter rarely has anything to do.
 
-use trundle_dsp::events::{process_stereo_with_events, TimedEvent, VoiceEvent};
+use trundle_dsp::scene::events::{process_stereo_with_events, TimedEvent, VoiceEvent};
 
 mod scene;
 use scene::render_scene;
-use trundle_dsp::preset::{Preset, BUILTIN_PRESETS};
+use trundle_dsp::scene::preset::{Preset, BUILTIN_PRESETS};
 use trundle_dsp::{Params, Voice};
 
 const FS: f64 = 48_000.0;
@@ -76,7 +76,7 @@ fn sixteen_full_velocity_balls_stay_below_full_scale() {
 /// (issue #17: it used to work on 2–3 % of the samples at such corners).
 #[test]
 fn the_limiter_rarely_acts() {
-    use trundle_dsp::limiter::Limiter;
+    use trundle_dsp::scene::limiter::Limiter;
     use trundle_dsp::ParamId;
     let touched = |p: &Params, preset: Option<&Preset>| {
         let mut voice = Voice::new(FS, p);

@@ -2,9 +2,11 @@
 //! budget, culling of inaudible modes and the silence skip. Work is counted (mode·samples
 //! the bank processed), not timed, so these tests do not depend on the machine's load.
 
-use trundle_dsp::object::{Object, ObjectControls, Quality};
-use trundle_dsp::shape::Shape;
-use trundle_dsp::{ParamId, Params, Voice, CHUNK};
+use trundle_dsp::block::CHUNK;
+use trundle_dsp::object::quality::Quality;
+use trundle_dsp::object::resonator::{Object, ObjectControls};
+use trundle_dsp::object::shape::Shape;
+use trundle_dsp::{ParamId, Params, Voice};
 
 const FS: f64 = 48_000.0;
 

@@ -53,12 +53,13 @@
 use core::f64::consts::TAU;
 
 use realfft::num_complex::Complex64 as C;
-use trundle_dsp::disk::anchor;
-use trundle_dsp::material::{Material, DECAY_MAX_S, DECAY_MIN_S, GLASS, METAL, WOOD};
-use trundle_dsp::modal::{phasor_coeffs, LongBank, ModalBank, ModeCoeffs};
-use trundle_dsp::object::{first_mode_hz, ModeInfo, Object, ObjectControls};
-use trundle_dsp::shape::{Shape, ShapeTables};
-use trundle_dsp::CHUNK;
+use trundle_dsp::block::CHUNK;
+use trundle_dsp::object::bank::{phasor_coeffs, ModalBank, ModeCoeffs};
+use trundle_dsp::object::disk::anchor;
+use trundle_dsp::object::long_bank::LongBank;
+use trundle_dsp::object::material::{Material, DECAY_MAX_S, DECAY_MIN_S, GLASS, METAL, WOOD};
+use trundle_dsp::object::resonator::{first_mode_hz, ModeInfo, Object, ObjectControls};
+use trundle_dsp::object::shape::{Shape, ShapeTables};
 
 /// Largest worst-case relative interference (leakage + round-off) per window for a mode to
 /// count as well separated.

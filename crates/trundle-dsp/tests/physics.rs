@@ -1,5 +1,5 @@
 //! Integration tests of the physics engine ([`trundle_dsp::physics`]) and the surface
-//! ([`trundle_dsp::surface`]): TASLP §II-A, §III, §IV-D/E; Rath 2003.
+//! ([`trundle_dsp::physics::profile`]): TASLP §II-A, §III, §IV-D/E; Rath 2003.
 //!
 //! Statistical tolerances are justified where they are set. The impact extraction and the
 //! ARMA(1,1) fit are small local helpers (local maxima of the force; Gauss–Newton on the
@@ -8,11 +8,11 @@
 
 use std::time::Instant;
 
-use trundle_dsp::physics::{single_impact, PhysicsEngine, PhysicsSettings, MAX_MODES};
-use trundle_dsp::surface::{
+use trundle_dsp::physics::profile::{
     offset_curve_reference, rolling_half_width, FractalProfile, FractalSettings, RollingFilter,
     MAX_HALF_WIDTH,
 };
+use trundle_dsp::physics::{single_impact, PhysicsEngine, PhysicsSettings, MAX_MODES};
 
 // ---------------------------------------------------------------------------------------
 // Allocation counter (per thread, so parallel tests do not disturb each other).

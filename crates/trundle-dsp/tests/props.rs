@@ -23,8 +23,8 @@ const CEILING: f32 = 64.0;
 /// pulses); the force is written as it is. Found by this test: 15 balls, one of them S 0.1 at
 /// V 0.83 on steel-on-metal, at +8.8 dB, peaked at 82.9 in force output.
 fn force_ceiling() -> f32 {
-    use trundle_dsp::contact::{contact_scale_for, BallMaterial};
     use trundle_dsp::params::ParamEnum;
+    use trundle_dsp::source::contact::{contact_scale_for, BallMaterial};
     let mut c_min = f64::INFINITY;
     for &ball in BallMaterial::VARIANTS {
         for i in 0..=20 {
@@ -34,7 +34,7 @@ fn force_ceiling() -> f32 {
             }
         }
     }
-    (f64::from(CEILING) * trundle_dsp::lowpass::size_gain(0.1) / c_min) as f32
+    (f64::from(CEILING) * trundle_dsp::source::lowpass::size_gain(0.1) / c_min) as f32
 }
 
 static CASES: AtomicUsize = AtomicUsize::new(0);

@@ -7,8 +7,10 @@
 //! of the synthesis from a pure ARMA process (the floor rule of `series`, and impacts closer
 //! than a pulse width merging in the force).
 
-use trundle_dsp::analysis::{cross_correlation, extract_impacts, fit_arma11, fit_duration_law};
-use trundle_dsp::series::{Arma11, SeriesParams};
+use trundle_dsp::analysis::impacts::{
+    cross_correlation, extract_impacts, fit_arma11, fit_duration_law,
+};
+use trundle_dsp::source::series::{Arma11, SeriesParams};
 use trundle_dsp::{ParamId, Params, Voice};
 
 const FS: f64 = 96_000.0;
@@ -35,10 +37,10 @@ fn render(p: &Params, seconds: f64) -> Vec<f32> {
 }
 
 /// The series amplitude per unit of force peak at V = 1: the pulse keeps its area under the
-/// contact scale c (height 1/c, `trundle_dsp::contact`) and the force carries the size gain
-/// G(S) (`trundle_dsp::lowpass::size_gain`), so A = peak·c/G(S).
+/// contact scale c (height 1/c, `trundle_dsp::source::contact`) and the force carries the size gain
+/// G(S) (`trundle_dsp::source::lowpass::size_gain`), so A = peak·c/G(S).
 fn series_per_peak(p: &Params) -> f64 {
-    p.contact_scale() / trundle_dsp::lowpass::size_gain(p.get(ParamId::Size))
+    p.contact_scale() / trundle_dsp::source::lowpass::size_gain(p.get(ParamId::Size))
 }
 
 fn mean(x: &[f64]) -> f64 {
@@ -89,7 +91,7 @@ fn rendered_force_recovers_table_i() {
         let force = render(&p, 120.0);
         // Threshold at half the floor amplitude: every emitted impact is above it.
         let impacts = extract_impacts(&force, FS, 0.005);
-        // The pulses keep their area under the ball's contact (`trundle_dsp::contact`): a
+        // The pulses keep their area under the ball's contact (`trundle_dsp::source::contact`): a
         // contact c times the papers' is 1/c times as tall, and the force carries the size
         // gain G(S). The series is A = c·peak/G(S).
         let c = series_per_peak(&p);
@@ -243,7 +245,7 @@ fn pulse_durations_follow_the_t0_law() {
             .collect();
         let (zeta, theta) = fit_duration_law(&isolated);
         // ζ = c·7.88·10⁻⁴·S: the papers' law scaled by the ball's contact on the object
-        // (`trundle_dsp::contact`; the default steel ball on the default object).
+        // (`trundle_dsp::source::contact`; the default steel ball on the default object).
         let set = p.contact_scale() * 7.88e-4 * size;
         println!("S {size}: zeta {zeta:.4e} s (set {set:.4e}), theta {theta:.4}");
         // The width is measured on the sampled pulse (≥ 25 samples at 96 kHz): a 2 %

@@ -5,7 +5,7 @@
 //! subnormal value appears, the AM phase keeps exact time, and impact timing stays exact
 //! (the impact clock is re-based every chunk, so its precision does not degrade).
 
-use trundle_dsp::modulation::Modulator;
+use trundle_dsp::source::modulation::Modulator;
 use trundle_dsp::{ParamId, Params, Voice};
 
 /// The table's extreme scene with 64 modes instead of 256: a minute at 384 kHz with all 256

@@ -2,9 +2,10 @@
 //! follows its mode shape, the ball's position moves the image, the L + R sum is mono
 //! compatible and the default scene's channels are neither identical nor unrelated.
 
-use trundle_dsp::material::Material;
-use trundle_dsp::object::{pickups, Object, ObjectControls, Quality};
-use trundle_dsp::shape::{unit_coordinate, Shape, ShapeTables};
+use trundle_dsp::object::material::Material;
+use trundle_dsp::object::quality::Quality;
+use trundle_dsp::object::resonator::{pickups, Object, ObjectControls};
+use trundle_dsp::object::shape::{unit_coordinate, Shape, ShapeTables};
 use trundle_dsp::{ParamId, Params, Voice};
 
 const FS: f64 = 48_000.0;

@@ -3,9 +3,9 @@
 //! action disk has no level hole; a ball told to stop rolls to rest over a time that follows
 //! its speed.
 
-use trundle_dsp::balls::STOP_DECELERATION_M_S2;
-use trundle_dsp::events::{process_with_events, TimedEvent, VoiceEvent};
 use trundle_dsp::params::Output;
+use trundle_dsp::scene::events::{process_with_events, TimedEvent, VoiceEvent};
+use trundle_dsp::scene::stop::STOP_DECELERATION_M_S2;
 use trundle_dsp::{ParamId, Params, Voice};
 
 const FS: f64 = 48_000.0;

@@ -1,6 +1,6 @@
 //! Expression per ball: what the host's note events do to the MIDI balls.
 //!
-//! Every MIDI note is a ball ([`trundle_dsp::balls`]) named as the host names the note (its
+//! Every MIDI note is a ball ([`trundle_dsp::scene::balls`]) named as the host names the note (its
 //! voice id, channel and key), so a gesture reaches the ball it belongs to:
 //!
 //! | host gesture | ball | law |
@@ -29,8 +29,8 @@
 use crate::params::{TableParam, TrundleParams};
 use nice_plug::midi::{Channel, Key, VoiceID};
 use nice_plug::prelude::*;
-use trundle_dsp::balls::{BallId, BallTarget, Expression};
-use trundle_dsp::events::VoiceEvent;
+use trundle_dsp::scene::balls::{BallId, BallTarget, Expression};
+use trundle_dsp::scene::events::VoiceEvent;
 use trundle_dsp::ParamId;
 
 /// Poly modulation id of `velocity`.

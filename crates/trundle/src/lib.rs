@@ -15,14 +15,14 @@
 //! * **Stereo**: the voice renders left and right ([`Voice::process_stereo`]; `width` sets
 //!   how far apart they are, the mid is the mono voice). A host that gives the plugin one
 //!   output channel gets the mid, (L + R)/2.
-//! * **Safety limiter** ([`trundle_dsp::limiter::Limiter`], `limiter` = on by default):
+//! * **Safety limiter** ([`trundle_dsp::scene::limiter::Limiter`], `limiter` = on by default):
 //!   stereo-linked, look-ahead 1.5 ms, ceiling −1 dBFS. Its delay is there whether it is on
 //!   or off, so the latency reported to the host in `activate` (72 samples at 48 kHz) never
 //!   changes while the plugin runs. The editor shows its gain reduction ([`meter`]).
 //!
 //! * **Automation** is sample-accurate in the sense that matters for a bounce: nice-plug
 //!   splits the host buffer at every parameter event, and the voice takes the new targets at
-//!   its next 64-sample chunk boundary ([`trundle_dsp::CHUNK`], 1.3 ms at 48 kHz) and glides
+//!   its next 64-sample chunk boundary ([`trundle_dsp::block::CHUNK`], 1.3 ms at 48 kHz) and glides
 //!   to them itself (no zipper noise, no clicks). The chunk grid is counted from the last
 //!   reset, not from the host's buffers, so the output depends on when events happen, never
 //!   on how the host slices its blocks.
@@ -41,7 +41,7 @@
 //!   samples.
 //! * **Bypass** fades the output out over 10 ms and back in, never clicking; fully bypassed,
 //!   the voice is paused (no CPU) and resumes where it was.
-//! * **MIDI notes** start extra balls on the same object (`trundle_dsp::balls`): pitch →
+//! * **MIDI notes** start extra balls on the same object (`trundle_dsp::scene::balls`): pitch →
 //!   ball size (C2 = the largest, S = 1; C7 = the smallest, S = 0.1), note velocity → ball
 //!   speed; note off rolls the ball to a halt; up to 16 at once (the oldest is reused).
 //!   Each ball follows its own gestures — CLAP note expressions, MPE, CLAP polyphonic
@@ -54,8 +54,8 @@
 
 use nice_plug::prelude::*;
 use std::sync::Arc;
-use trundle_dsp::events::{process_stereo_with_events, TimedEvent};
-use trundle_dsp::limiter::{Limiter, Limiting};
+use trundle_dsp::scene::events::{process_stereo_with_events, TimedEvent};
+use trundle_dsp::scene::limiter::{Limiter, Limiting};
 use trundle_dsp::{ParamId, Voice};
 
 pub mod compare;
@@ -211,7 +211,7 @@ impl Plugin for Trundle {
         match &mut self.voice {
             // Same rate: keep the allocation; `reset` (always called before processing)
             // rebuilds its state from the current parameters.
-            Some(v) if v.sample_rate() == trundle_dsp::sanitize_sample_rate(fs) => {}
+            Some(v) if v.sample_rate() == trundle_dsp::block::sanitize_sample_rate(fs) => {}
             _ => self.voice = Some(Voice::new(fs, &self.dsp)),
         }
         // The fitted object (from the state, a preset or the editor), applied here on the
@@ -328,7 +328,7 @@ impl Plugin for Trundle {
 
         let step = 1.0 / (BYPASS_FADE_S * self.sample_rate).max(1.0);
         // Notes start or stop balls where they fall: the core's event loop splits
-        // the block there (`trundle_dsp::events`).
+        // the block there (`trundle_dsp::scene::events`).
         let params = &self.params;
         let notes = next_event
             .into_iter()
@@ -432,7 +432,7 @@ impl ClapPlugin for Trundle {
     const CLAP_SUPPORT_URL: Option<&'static str> = None;
     // Per-ball modulation of velocity, roughness and size (`expression`): one voice per ball.
     const CLAP_POLY_MODULATION_CONFIG: Option<PolyModulationConfig> = Some(PolyModulationConfig {
-        max_voice_capacity: trundle_dsp::balls::MAX_BALLS as u32,
+        max_voice_capacity: trundle_dsp::scene::balls::MAX_BALLS as u32,
         supports_overlapping_voices: true,
     });
     const CLAP_FEATURES: &'static [ClapFeature] = &[

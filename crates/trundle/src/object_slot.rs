@@ -274,11 +274,11 @@ pub fn fit_recording(path: &Path) -> Result<ObjectFile, String> {
 mod tests {
     use super::*;
     use trundle_dsp::object::fitted::FittedObject;
-    use trundle_dsp::preset::Preset;
+    use trundle_dsp::scene::preset::Preset;
 
     /// The fitted object of a built-in preset (they carry them inline).
     fn some_object() -> ObjectFile {
-        trundle_dsp::preset::BUILTIN_PRESETS
+        trundle_dsp::scene::preset::BUILTIN_PRESETS
             .iter()
             .filter_map(|(_, json)| Preset::from_json(json).ok())
             .find_map(|p| p.object)

@@ -28,7 +28,7 @@ use std::fs;
 use std::io;
 use std::path::{Path, PathBuf};
 use trundle_dsp::object::fitted::ObjectFile;
-use trundle_dsp::preset::Preset;
+use trundle_dsp::scene::preset::Preset;
 use trundle_dsp::Params;
 
 /// The environment variable that overrides the user preset directory.

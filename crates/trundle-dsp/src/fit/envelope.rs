@@ -7,37 +7,10 @@
 //! through its level in dB over time, from the band's loudest frame until it has fallen
 //! 40 dB or the recording ends (dB(t) = dB₀ − 8.686·t/τ).
 
-use realfft::RealFftPlanner;
+use crate::analysis::stft::stft_power;
+use crate::analysis::third_octave::{band_centre_hz, band_edges_hz, BANDS};
 
 pub use crate::object::fitted::EnvelopeBand;
-
-/// Short-time power spectra |X|² (Hann frames of ≈ 21 ms, a power of two of at least 64
-/// samples, hop = frame / `overlap`; the last frames zero-padded): (frames × bins, frame
-/// length, hop). The envelope fit uses overlap 2; `trundle fit-object --plot` draws them.
-pub fn stft_power(x: &[f64], sample_rate_hz: f64, overlap: usize) -> (Vec<Vec<f64>>, usize, usize) {
-    let len = ((0.021 * sample_rate_hz) as usize)
-        .next_power_of_two()
-        .max(64);
-    let hop = (len / overlap.max(1)).max(1);
-    let mut planner = RealFftPlanner::<f64>::new();
-    let fft = planner.plan_fft_forward(len);
-    let win: Vec<f64> = (0..len)
-        .map(|i| 0.5 - 0.5 * (core::f64::consts::TAU * i as f64 / len as f64).cos())
-        .collect();
-    let mut buf = fft.make_input_vec();
-    let mut spec = fft.make_output_vec();
-    let mut out = Vec::new();
-    let mut start = 0;
-    while start < x.len() {
-        for (i, b) in buf.iter_mut().enumerate() {
-            *b = x.get(start + i).copied().unwrap_or(0.0) * win[i];
-        }
-        fft.process(&mut buf, &mut spec).expect("FFT sizes match");
-        out.push(spec.iter().map(|c| c.norm_sqr()).collect());
-        start += hop;
-    }
-    (out, len, hop)
-}
 
 /// The third-octave envelope of `residual` (energies relative to `signal`'s), bands from
 /// 20 Hz to min(20 kHz, 0.45·f_s) that hold at least one bin of the ≈ 21 ms spectra.
@@ -53,15 +26,12 @@ pub fn third_octave_envelope(
     let frame_s = hop as f64 / fs;
     let top = (20_000.0f64).min(0.45 * fs);
     let mut out = Vec::new();
-    for k in -17..=13 {
-        let centre = 1000.0 * 2f64.powf(k as f64 / 3.0);
+    for i in 0..BANDS {
+        let centre = band_centre_hz(i);
         if centre > top {
             break;
         }
-        let (lo, hi) = (
-            centre * 2f64.powf(-1.0 / 6.0),
-            centre * 2f64.powf(1.0 / 6.0),
-        );
+        let (lo, hi) = band_edges_hz(i);
         let (b0, b1) = (
             (lo / bin_hz).ceil() as usize,
             ((hi / bin_hz).floor() as usize).min(len / 2),

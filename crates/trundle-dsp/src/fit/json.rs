@@ -14,7 +14,7 @@
 //! ```
 //!
 //! * `trundle_object` is the format version; a newer one is refused (its meaning cannot be
-//!   guessed), as for presets ([`crate::preset`]).
+//!   guessed), as for presets ([`crate::scene::preset`]).
 //! * `modes`: aₖ·e^{−t/τₖ}·cos(2πfₖt + φₖ), t in seconds from the onset, amplitude in full
 //!   scale units of the recording.
 //! * `envelope`: third-octave bands of what the modes leave unexplained (energy relative to

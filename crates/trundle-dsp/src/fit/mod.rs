@@ -20,6 +20,7 @@
 //! Trundle's action model supplies).
 
 pub mod bands;
+pub mod deconvolve;
 pub mod envelope;
 #[cfg(feature = "presets")]
 pub mod json;
@@ -147,7 +148,9 @@ fn frame_db(x: &[f64], fs: f64) -> (Vec<f64>, usize) {
 /// decay reaches the noise floor.
 pub fn check_strike(x: &[f64], sample_rate_hz: f64) -> Result<(usize, usize), FitError> {
     let fs = sample_rate_hz;
-    if !(fs.is_finite() && (crate::MIN_SAMPLE_RATE_HZ..=crate::MAX_SAMPLE_RATE_HZ).contains(&fs)) {
+    if !(fs.is_finite()
+        && (crate::block::MIN_SAMPLE_RATE_HZ..=crate::block::MAX_SAMPLE_RATE_HZ).contains(&fs))
+    {
         return Err(FitError::SampleRate(fs));
     }
     let seconds = x.len() as f64 / fs;
@@ -298,14 +301,14 @@ pub fn fit_strike(x: &[f64], sample_rate_hz: f64) -> Result<FittedObject, FitErr
     let residual_db = residual_db(sig, &model);
     let envelope = third_octave_envelope(&residual, sig, fs);
     // The recording's own spectrum, by the measure the player compares the played modes
-    // with (`object::fitted::band_energies`).
+    // with (`analysis::third_octave::band_energies`).
     let span = crate::object::fitted::spectrum_span(sig.len() as f64 / fs, fs).min(sig.len());
-    let spectrum = crate::object::fitted::band_energies(&sig[..span], fs)
+    let spectrum = crate::analysis::third_octave::band_energies(&sig[..span], fs)
         .iter()
         .enumerate()
-        .filter(|(i, &e)| e > 0.0 && crate::object::fitted::band_centre_hz(*i) < 0.45 * fs)
+        .filter(|(i, &e)| e > 0.0 && crate::analysis::third_octave::band_centre_hz(*i) < 0.45 * fs)
         .map(|(i, &e)| SpectrumBand {
-            centre_hz: crate::object::fitted::band_centre_hz(i),
+            centre_hz: crate::analysis::third_octave::band_centre_hz(i),
             level_db: (10.0 * e.log10()).max(-400.0),
         })
         .collect();

@@ -8,7 +8,7 @@
 //! ## How a fitted object is played (docs/MODEL.md §6, "Fitted objects")
 //! * **Modes.** Each fitted mode aₖ·e^{−t/τₖ}·cos(2πfₖt + φₖ) becomes an explicit mode of the
 //!   bank with its frequency and decay. The bank's modes have a real input gain (switching
-//!   one never clicks, [`crate::modal`]), so every mode's impulse response starts in sine
+//!   one never clicks, [`crate::object::bank`]), so every mode's impulse response starts in sine
 //!   phase: the fitted phase φₖ is reduced to the sign of the gain, sₖ = sign(−sin φₖ)
 //!   (the sine component of the fitted cosine), and the amplitude aₖ is kept. Energy and
 //!   spectrum are kept; the waveform of the first milliseconds is not.
@@ -26,7 +26,7 @@
 //!   sine phase) nothing is taken away, except that short modes in a band where they
 //!   overshoot are scaled down. Slowly decaying bands make narrow, tonal band modes: the
 //!   third-octave energy is right, the fine spectrum between partials is not.
-//! * **Quality.** [`crate::object::Quality::max_modes`] caps the explicit fitted modes
+//! * **Quality.** [`crate::object::quality::Quality::max_modes`] caps the explicit fitted modes
 //!   (16 / 64 / 256 / 256 / all), loudest (aₖ²τₖ) first; the energy of the others is added
 //!   to the band part of their third-octave band (at the energy-weighted decay), so a lower
 //!   quality keeps the object's spectrum and loudness.
@@ -44,6 +44,7 @@
 //!   and `modes` are ignored (no mode shapes, no series). At the parameters' defaults the
 //!   object plays exactly as fitted.
 
+use crate::analysis::third_octave::{band_centre_hz, band_energies, band_index, BANDS};
 use std::sync::Arc;
 
 /// One fitted mode: aₖ·e^{−t/τₖ}·cos(2πfₖt + φₖ), t in seconds from the start of the free
@@ -123,9 +124,6 @@ pub const MAX_AMPLITUDE: f64 = 1000.0;
 /// Modes per third-octave band of the band part.
 pub const BAND_MODES: usize = 3;
 
-/// Third-octave bands of the envelope: centres 1000·2^{k/3} Hz, k = −17 … 13 (20 Hz … 20 kHz).
-pub const BANDS: usize = 31;
-
 /// Most fitted modes a loaded object keeps (the loudest).
 pub const MAX_FITTED_MODES: usize = 2048;
 
@@ -135,17 +133,6 @@ pub const SIDE_SPREAD: f64 = 0.6;
 /// The material disk's tilt is normalized here (Hz): decays at this frequency are scaled by
 /// `decay` only.
 pub const TILT_REF_HZ: f64 = 1000.0;
-
-/// Band index (0 … [`BANDS`] − 1) of a frequency: the nearest third-octave centre.
-pub fn band_index(freq_hz: f64) -> usize {
-    let k = (3.0 * (freq_hz.max(1.0) / 1000.0).log2()).round() + 17.0;
-    k.clamp(0.0, (BANDS - 1) as f64) as usize
-}
-
-/// Centre frequency of band `i` (Hz).
-pub fn band_centre_hz(i: usize) -> f64 {
-    1000.0 * 2f64.powf((i as f64 - 17.0) / 3.0)
-}
 
 impl FittedObject {
     /// Check every number: finite; frequencies in (0, f_s/2) of the recording, decays
@@ -330,62 +317,6 @@ pub fn spectrum_span(fit_duration_s: f64, sample_rate_hz: f64) -> usize {
     (span * sample_rate_hz).ceil() as usize
 }
 
-/// Energy per third-octave band ([`BANDS`], 4·∫y²dt: the a²τ measure) of `x`, its last 30 %
-/// faded out (half Hann: a decay cut mid-ring would leak differently for every phase at the
-/// cut), through two cascaded RBJ band-pass biquads (Q of a third-octave) per band; bands at
-/// or above 0.45·f_s are 0. The one measure of [`FittedObject::spectrum`] and of the played
-/// modes (`phase_energies`).
-pub fn band_energies(x: &[f64], sample_rate_hz: f64) -> [f64; BANDS] {
-    use core::f64::consts::{PI, TAU};
-    let fs = sample_rate_hz;
-    let len = x.len();
-    let fade = len * 7 / 10;
-    let xt: Vec<f64> = x
-        .iter()
-        .enumerate()
-        .map(|(n, &v)| {
-            if n < fade {
-                v
-            } else {
-                v * 0.5 * (1.0 + (PI * (n - fade) as f64 / (len - fade) as f64).cos())
-            }
-        })
-        .collect();
-    let mut out = [0.0; BANDS];
-    let q = 1.0 / (2f64.powf(1.0 / 6.0) - 2f64.powf(-1.0 / 6.0));
-    for (i, e_out) in out.iter_mut().enumerate() {
-        let f0 = band_centre_hz(i);
-        if f0 >= 0.45 * fs {
-            break;
-        }
-        let w0 = TAU * f0 / fs;
-        let alpha = w0.sin() / (2.0 * q);
-        let a0 = 1.0 + alpha;
-        let (b0, b2, a1, a2) = (
-            alpha / a0,
-            -alpha / a0,
-            -2.0 * w0.cos() / a0,
-            (1.0 - alpha) / a0,
-        );
-        let mut st = [[0.0f64; 4]; 2];
-        let mut e = 0.0;
-        for &v in &xt {
-            let mut y = v;
-            for s in st.iter_mut() {
-                let out = b0 * y + b2 * s[1] - a1 * s[2] - a2 * s[3];
-                s[1] = s[0];
-                s[0] = y;
-                s[3] = s[2];
-                s[2] = out;
-                y = out;
-            }
-            e += y * y;
-        }
-        *e_out = 4.0 * e / fs;
-    }
-    out
-}
-
 /// Per third-octave band ([`band_energies`]), the energy of the modes with their fitted
 /// phases, and as the bank plays them (sine phase, signed gain), both synthesized at the
 /// recording's rate over [`spectrum_span`]. What differs is mostly the onset: a mode that
@@ -501,9 +432,10 @@ impl LoadedObject {
                 continue;
             }
             let i = band_index(b.centre_hz);
-            let tau = b
-                .decay_s
-                .clamp(crate::material::DECAY_MIN_S, crate::material::DECAY_MAX_S);
+            let tau = b.decay_s.clamp(
+                crate::object::material::DECAY_MIN_S,
+                crate::object::material::DECAY_MAX_S,
+            );
             let e = 10f64.powf(b.level_db.min(0.0) / 10.0) * e_rec / held(tau);
             acc[i].0 += e;
             acc[i].1 += e * tau;
@@ -576,8 +508,10 @@ impl LoadedObject {
         }; BANDS];
         for (i, &(e, et)) in acc.iter().enumerate() {
             if e > 0.0 {
-                let tau =
-                    (et / e).clamp(crate::material::DECAY_MIN_S, crate::material::DECAY_MAX_S);
+                let tau = (et / e).clamp(
+                    crate::object::material::DECAY_MIN_S,
+                    crate::object::material::DECAY_MAX_S,
+                );
                 bands[i] = LoadedBand {
                     amplitude: (e / (BAND_MODES as f64 * tau)).sqrt(),
                     decay_s: tau,
@@ -652,218 +586,8 @@ impl LoadedObject {
     }
 }
 
-/// The impulse response ends this far under its peak (dB).
-pub const IMPULSE_FLOOR_DB: f64 = -90.0;
-
-/// The object struck once by a unit impulse (`trundle render --impulse`): no ball, no
-/// source; `object`, or the recipe object of `params` when `None`, with `params`'
-/// controls. Returns L and R scaled to the modes' own amplitude units
-/// ([`Object::gain_norm`](crate::object::Object::gain_norm)): for a fitted object, the
-/// recording's full scale, (L + R)/2 = Σ sₖ·aₖ·e^{−t/τₖ}·sin(2πfₖt) plus the band part.
-/// `max_frames` long when `fixed_length`, else until it has decayed by
-/// [`IMPULSE_FLOOR_DB`] (held for 50 ms) or `max_frames`.
-///
-/// # Allocation
-/// Allocates (an offline render).
-pub fn impulse_response(
-    params: &crate::Params,
-    object: Option<Arc<LoadedObject>>,
-    sample_rate_hz: f64,
-    max_frames: usize,
-    fixed_length: bool,
-) -> (Vec<f32>, Vec<f32>) {
-    use crate::params::ParamId;
-    use crate::CHUNK;
-    let controls = crate::voice::object_controls(params);
-    let mut obj = crate::object::Object::new(sample_rate_hz, controls);
-    obj.set_quality(params.quality());
-    obj.set_controls(controls);
-    obj.set_ball((
-        params.get(ParamId::PositionX),
-        params.get(ParamId::PositionY),
-    ));
-    obj.set_loaded(object);
-    obj.reset();
-    let mut force = [0f32; CHUNK];
-    force[0] = 1.0;
-    let (mut mid, mut side) = ([0f32; CHUNK], [0f32; CHUNK]);
-    let (mut l, mut r) = (Vec::new(), Vec::new());
-    let mut peak = 0f32;
-    let mut quiet = 0usize;
-    let floor = 10f32.powf(IMPULSE_FLOOR_DB as f32 / 20.0);
-    let hold = (0.05 * sample_rate_hz) as usize;
-    while l.len() < max_frames {
-        obj.process_chunk_stereo(&force, &mut mid, &mut side);
-        force[0] = 0.0;
-        let norm = obj.gain_norm();
-        let scale = if norm > 0.0 { (1.0 / norm) as f32 } else { 0.0 };
-        let take = CHUNK.min(max_frames - l.len());
-        let mut chunk_peak = 0f32;
-        for i in 0..take {
-            let (a, b) = ((mid[i] + side[i]) * scale, (mid[i] - side[i]) * scale);
-            chunk_peak = chunk_peak.max(a.abs()).max(b.abs());
-            l.push(a);
-            r.push(b);
-        }
-        peak = peak.max(chunk_peak);
-        if !fixed_length {
-            if chunk_peak <= peak * floor || obj.is_silent() {
-                quiet += take;
-                if quiet >= hold {
-                    break;
-                }
-            } else {
-                quiet = 0;
-            }
-        }
-    }
-    (l, r)
-}
-
 #[cfg(feature = "presets")]
-mod file_json {
-    use super::*;
-    use serde_json::{json, Value};
-
-    /// The object file of `fit`, naming the recording `source`.
-    pub fn to_json(fit: &FittedObject, source: &str) -> Value {
-        json!({
-            "trundle_object": OBJECT_VERSION,
-            "source": source,
-            "sample_rate_hz": fit.sample_rate_hz,
-            "onset_s": fit.onset_s,
-            "duration_s": fit.duration_s,
-            "peak": fit.peak,
-            "residual_db": fit.residual_db,
-            "modal_range_hz": [fit.modal_range_hz.0, fit.modal_range_hz.1],
-            "modes": fit.modes.iter().map(|m| json!({
-                "freq_hz": m.freq_hz,
-                "decay_s": m.decay_s,
-                "amplitude": m.amplitude,
-                "phase_rad": m.phase_rad,
-            })).collect::<Vec<_>>(),
-            "envelope": fit.envelope.iter().map(|b| json!({
-                "centre_hz": b.centre_hz,
-                "level_db": b.level_db,
-                "decay_s": b.decay_s,
-            })).collect::<Vec<_>>(),
-            "spectrum": fit.spectrum.iter().map(|b| json!({
-                "centre_hz": b.centre_hz,
-                "level_db": b.level_db,
-            })).collect::<Vec<_>>(),
-        })
-    }
-
-    /// Read an object file and validate it ([`FittedObject::validate`]); the error names
-    /// the field at fault. Returns the object and its `source`.
-    pub fn from_json(v: &Value) -> Result<(FittedObject, String), String> {
-        if !v.is_object() {
-            return Err("not a Trundle object file (not a JSON object)".into());
-        }
-        let version = v
-            .get("trundle_object")
-            .and_then(Value::as_u64)
-            .ok_or("not a Trundle object file (no \"trundle_object\" version)")?;
-        if version > OBJECT_VERSION {
-            return Err(format!(
-                "object file version {version} is newer than this Trundle reads ({OBJECT_VERSION})"
-            ));
-        }
-        if version == 0 {
-            return Err("\"trundle_object\" must be 1".into());
-        }
-        let num = |o: &Value, k: &str, at: &str| -> Result<f64, String> {
-            o.get(k)
-                .and_then(Value::as_f64)
-                .filter(|x| x.is_finite())
-                .ok_or_else(|| format!("{at}\"{k}\" must be a finite number"))
-        };
-        let list = |k: &str| -> Result<&Vec<Value>, String> {
-            v.get(k)
-                .and_then(Value::as_array)
-                .ok_or_else(|| format!("\"{k}\" must be a list"))
-        };
-        let sample_rate_hz = num(v, "sample_rate_hz", "")?;
-        if sample_rate_hz <= 0.0 {
-            return Err("\"sample_rate_hz\" must be positive".into());
-        }
-        let mut modes = Vec::new();
-        for (i, m) in list("modes")?.iter().enumerate() {
-            let at = format!("mode {i}: ");
-            let mode = FitMode {
-                freq_hz: num(m, "freq_hz", &at)?,
-                decay_s: num(m, "decay_s", &at)?,
-                amplitude: num(m, "amplitude", &at)?,
-                phase_rad: num(m, "phase_rad", &at)?,
-            };
-            if mode.freq_hz <= 0.0 || mode.decay_s <= 0.0 || mode.amplitude < 0.0 {
-                return Err(format!(
-                    "mode {i}: frequency and decay must be positive, amplitude not negative"
-                ));
-            }
-            if mode.freq_hz >= 0.5 * sample_rate_hz {
-                return Err(format!(
-                    "mode {i}: \"freq_hz\" {} is not below half the sample rate ({} Hz)",
-                    mode.freq_hz,
-                    0.5 * sample_rate_hz
-                ));
-            }
-            modes.push(mode);
-        }
-        let mut envelope = Vec::new();
-        for (i, b) in list("envelope")?.iter().enumerate() {
-            let at = format!("envelope band {i}: ");
-            let band = EnvelopeBand {
-                centre_hz: num(b, "centre_hz", &at)?,
-                level_db: num(b, "level_db", &at)?,
-                decay_s: num(b, "decay_s", &at)?,
-            };
-            if band.centre_hz <= 0.0 || band.decay_s <= 0.0 {
-                return Err(format!(
-                    "envelope band {i}: \"centre_hz\" and \"decay_s\" must be positive"
-                ));
-            }
-            envelope.push(band);
-        }
-        let mut spectrum = Vec::new();
-        if let Some(v) = v.get("spectrum") {
-            let arr = v.as_array().ok_or("\"spectrum\" must be a list")?;
-            for (i, b) in arr.iter().enumerate() {
-                let at = format!("spectrum band {i}: ");
-                spectrum.push(SpectrumBand {
-                    centre_hz: num(b, "centre_hz", &at)?,
-                    level_db: num(b, "level_db", &at)?,
-                });
-            }
-        }
-        let range = list("modal_range_hz")?;
-        let r = |i: usize| {
-            range
-                .get(i)
-                .and_then(Value::as_f64)
-                .filter(|x| x.is_finite())
-                .ok_or("\"modal_range_hz\" must be [lo, hi]")
-        };
-        let source = v
-            .get("source")
-            .and_then(Value::as_str)
-            .unwrap_or("")
-            .to_string();
-        let fit = FittedObject {
-            sample_rate_hz,
-            modes,
-            envelope,
-            modal_range_hz: (r(0)?, r(1)?),
-            onset_s: num(v, "onset_s", "")?,
-            duration_s: num(v, "duration_s", "")?,
-            residual_db: num(v, "residual_db", "")?,
-            peak: num(v, "peak", "")?,
-            spectrum,
-        };
-        fit.validate()?;
-        Ok((fit, source))
-    }
-}
+mod file_json;
 
 #[cfg(feature = "presets")]
 pub use file_json::{from_json, to_json};

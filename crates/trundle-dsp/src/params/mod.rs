@@ -83,17 +83,17 @@ pub enum ParamId {
     Comb,
     /// Ball trajectory.
     Trajectory,
-    /// Which engine makes the force: signal model or physics (see [`crate::engine`]).
+    /// Which engine makes the force: signal model or physics (see [`crate::physics::mapping`]).
     Engine,
-    /// Accuracy/cost budget: mode cap, culling, physics oversampling (see [`crate::object::Quality`]).
+    /// Accuracy/cost budget: mode cap, culling, physics oversampling (see [`crate::object::quality::Quality`]).
     Quality,
     /// Stereo width: 0 = mono, 1 = the two pickups as they hear the object.
     Width,
     /// The output safety limiter (on by default).
     Limiter,
-    /// What the ball is made of (with the object's material: the contact, [`crate::contact`]).
+    /// What the ball is made of (with the object's material: the contact, [`crate::source::contact`]).
     BallMaterial,
-    /// The gesture: roll, drop or spin ([`crate::gesture`]).
+    /// The gesture: roll, drop or spin ([`crate::scene::gesture`]).
     Gesture,
     /// Drop height (cm).
     DropHeightCm,
@@ -111,7 +111,7 @@ pub enum ParamId {
     PathTimeS,
     /// Loose grit on the surface.
     Grit,
-    /// Balls rolling together, the scene's ball included ([`crate::crowd`]).
+    /// Balls rolling together, the scene's ball included ([`crate::scene::crowd`]).
     Crowd,
     /// Scatter of the crowd's sizes and speeds.
     CrowdSpread,
@@ -428,7 +428,7 @@ impl Params {
         self.values[E::ID as usize] = v.index() as f64;
     }
     /// Object shape.
-    pub fn shape(&self) -> crate::shape::Shape {
+    pub fn shape(&self) -> crate::object::shape::Shape {
         self.variant()
     }
     /// What the voice outputs.
@@ -436,28 +436,28 @@ impl Params {
         self.variant()
     }
     /// Which engine makes the force.
-    pub fn engine(&self) -> crate::engine::Engine {
+    pub fn engine(&self) -> crate::physics::mapping::Engine {
         self.variant()
     }
     /// What the ball is made of.
-    pub fn ball_material(&self) -> crate::contact::BallMaterial {
+    pub fn ball_material(&self) -> crate::source::contact::BallMaterial {
         self.variant()
     }
-    /// The contact scale c of the ball on the object ([`crate::contact`]): the factor on
+    /// The contact scale c of the ball on the object ([`crate::source::contact`]): the factor on
     /// the papers' pulse duration (1 for their contact).
     pub fn contact_scale(&self) -> f64 {
-        crate::contact::contact_scale_for(
+        crate::source::contact::contact_scale_for(
             self.ball_material(),
             self.get(ParamId::MaterialX),
             self.get(ParamId::MaterialY),
         )
     }
     /// The gesture (roll, drop, spin).
-    pub fn gesture(&self) -> crate::gesture::GestureKind {
+    pub fn gesture(&self) -> crate::scene::gesture::GestureKind {
         self.variant()
     }
     /// Whether the output safety limiter acts.
-    pub fn limiting(&self) -> crate::limiter::Limiting {
+    pub fn limiting(&self) -> crate::scene::limiter::Limiting {
         self.variant()
     }
     /// The stereo width (0 = mono … 1).
@@ -465,15 +465,15 @@ impl Params {
         self.get(ParamId::Width)
     }
     /// The accuracy/cost budget.
-    pub fn quality(&self) -> crate::object::Quality {
+    pub fn quality(&self) -> crate::object::quality::Quality {
         self.variant()
     }
     /// The ball's path.
-    pub fn trajectory(&self) -> crate::space::Trajectory {
+    pub fn trajectory(&self) -> crate::scene::space::Trajectory {
         self.variant()
     }
     /// How the AM depth follows the speed.
-    pub fn asymmetry_law(&self) -> crate::modulation::AsymmetryLaw {
+    pub fn asymmetry_law(&self) -> crate::source::modulation::AsymmetryLaw {
         self.variant()
     }
     /// The hardest steady scene the table allows, for soak tests (`trundle soak`,
@@ -558,9 +558,9 @@ mod tests {
 
     #[test]
     fn enums_are_typed_with_one_rule_for_a_bad_index() {
-        use crate::engine::Engine;
-        use crate::object::Quality;
-        use crate::shape::Shape;
+        use crate::object::quality::Quality;
+        use crate::object::shape::Shape;
+        use crate::physics::mapping::Engine;
         let mut p = Params::default();
         assert_eq!(p.shape(), Shape::Plate);
         assert_eq!(p.output(), Output::Object);

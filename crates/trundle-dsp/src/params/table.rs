@@ -118,7 +118,7 @@ pub const PARAMS: [ParamSpec; PARAM_COUNT] = [
         min: 0.0,
         max: 3.0,
         default: 2.0,
-        kind: ParamKind::Enum(<crate::shape::Shape as ParamEnum>::NAMES),
+        kind: ParamKind::Enum(<crate::object::shape::Shape as ParamEnum>::NAMES),
         doc: "Mode frequency series: string (harmonic, 1-D), bar (free-free beam, 1-D), plate (rectangular, 2-D), shell (bowl/glass ring modes with split doublets, 3-D)",
     },
     ParamSpec {
@@ -183,7 +183,7 @@ pub const PARAMS: [ParamSpec; PARAM_COUNT] = [
         unit: "",
         min: -1.0,
         max: 1.0,
-        default: crate::source::ROLL_X,
+        default: crate::source::chain::ROLL_X,
         kind: FLOAT,
         doc: "Action disk x: rub at angle 0, scratch at 2pi/3, roll at 4pi/3 (the default); inside the disk the three parameter sets blend with their mean, densities as mixtures (CMJ eqs 8-11); points outside the circle are projected onto it",
     },
@@ -194,7 +194,7 @@ pub const PARAMS: [ParamSpec; PARAM_COUNT] = [
         unit: "",
         min: -1.0,
         max: 1.0,
-        default: crate::source::ROLL_Y,
+        default: crate::source::chain::ROLL_Y,
         kind: FLOAT,
         doc: "Action disk y (see action_x)",
     },
@@ -206,7 +206,7 @@ pub const PARAMS: [ParamSpec; PARAM_COUNT] = [
         min: 0.0,
         max: 1.0,
         default: 0.0,
-        kind: ParamKind::Enum(<crate::modulation::AsymmetryLaw as ParamEnum>::NAMES),
+        kind: ParamKind::Enum(<crate::source::modulation::AsymmetryLaw as ParamEnum>::NAMES),
         doc: "constant = AM depth m at every speed (TASLP eq 7); speed2 = depth grows with the square of the rolling rate, as Rath's off-centre-mass force (DAFx 2003 eq 4), equal to m at the default speed and size",
     },
     ParamSpec {
@@ -272,7 +272,7 @@ pub const PARAMS: [ParamSpec; PARAM_COUNT] = [
         min: 0.0,
         max: 5.0,
         default: 0.0,
-        kind: ParamKind::Enum(<crate::space::Trajectory as ParamEnum>::NAMES),
+        kind: ParamKind::Enum(<crate::scene::space::Trajectory as ParamEnum>::NAMES),
         doc: "manual = the ball stays at position_x/y; line = back and forth across the object through that point; circle = around the centre through that point; the ball moves at velocity V m/s (CMMR §3.3). Paths with gravity (docs/MODEL.md §11), over path_time_s: bowl = circling and spiralling down into a parabolic bowl (radius and speed shrink together to rest at the centre); ramp = released from rest, accelerating uniformly to V along the line; slow-to-stop = along the line, slowing uniformly from V to rest",
     },
     ParamSpec {
@@ -283,7 +283,7 @@ pub const PARAMS: [ParamSpec; PARAM_COUNT] = [
         min: 0.0,
         max: 1.0,
         default: 0.0,
-        kind: ParamKind::Enum(<crate::engine::Engine as ParamEnum>::NAMES),
+        kind: ParamKind::Enum(<crate::physics::mapping::Engine as ParamEnum>::NAMES),
         doc: "signal = the fast statistical model (TASLP Fig. 5); physics = a Hunt-Crossley ball on a fractal surface integrated by RK4 (TASLP §II-A, §III; Rath 2003), driven by the same size/velocity/roughness/asymmetry controls; switching crossfades over 20 ms",
     },
     ParamSpec {
@@ -294,7 +294,7 @@ pub const PARAMS: [ParamSpec; PARAM_COUNT] = [
         min: 0.0,
         max: 4.0,
         default: 2.0,
-        kind: ParamKind::Enum(<crate::object::Quality as ParamEnum>::NAMES),
+        kind: ParamKind::Enum(<crate::object::quality::Quality as ParamEnum>::NAMES),
         doc: "Cost budget: draft = at most 16 modes, modes 50 dB below the loudest culled, physics RK4 1x; normal = at most 64 modes, culling at -70 dB; high = every requested mode, culling at -90 dB; ultra = no culling, physics RK4 8x; reference = every mode of the shape below Nyquist explicitly (up to 4096, long decays in f64), offline only. Above the explicit modes a high band carries the rest of the spectrum (docs/MODEL.md §6). Culled and capped modes ring out (no clicks)",
     },
     ParamSpec {
@@ -316,7 +316,7 @@ pub const PARAMS: [ParamSpec; PARAM_COUNT] = [
         min: 0.0,
         max: 1.0,
         default: 1.0,
-        kind: ParamKind::Enum(<crate::limiter::Limiting as ParamEnum>::NAMES),
+        kind: ParamKind::Enum(<crate::scene::limiter::Limiting as ParamEnum>::NAMES),
         doc: "Output safety limiter: look-ahead 1.5 ms, stereo-linked, ceiling -1 dBFS, acting only on peaks (on by default); off = the engine's level as is",
     },
     ParamSpec {
@@ -327,7 +327,7 @@ pub const PARAMS: [ParamSpec; PARAM_COUNT] = [
         min: 0.0,
         max: 4.0,
         default: 0.0,
-        kind: ParamKind::Enum(<crate::contact::BallMaterial as ParamEnum>::NAMES),
+        kind: ParamKind::Enum(<crate::source::contact::BallMaterial as ParamEnum>::NAMES),
         doc: "What the ball is made of; with the object's material it sets the Hertz contact (docs/MODEL.md §2): a hard ball on a hard object makes short, bright impacts (steel on metal: pulses 0.17x the papers'), rubber long, dull ones (2.1x); the physics engine's stiffness and mass follow the same materials",
     },
 ParamSpec {
@@ -338,7 +338,7 @@ ParamSpec {
         min: 0.0,
         max: 2.0,
         default: 0.0,
-        kind: ParamKind::Enum(<crate::gesture::GestureKind as ParamEnum>::NAMES),
+        kind: ParamKind::Enum(<crate::scene::gesture::GestureKind as ParamEnum>::NAMES),
         doc: "roll = the ball rolls at velocity V (the papers' scene); drop = falls from drop_height_cm, bounces (flight times 2 e^k v0/g, impact strength by Hertz ~ v^(6/5)), merges into rolling at V, rolls roll_time_s and slows to rest; spin = a coin or lid settling like Euler's disk: contacts at a rate rising as (t_end - t)^(-1/6) (Moffatt 2000) for spin_time_s, then still (docs/MODEL.md §11)",
     },
     ParamSpec {

@@ -2,7 +2,7 @@
 //! by RK4 (TASLP §IV-D, eqs 10–11): the contact law the rolling engine integrates, and the
 //! contact duration the pulse law of the signal model is checked against.
 
-use super::*;
+use crate::physics::settings::PhysicsSettings;
 
 /// Result of [`single_impact`]: one Hunt–Crossley impact on a flat rigid surface (TASLP
 /// §IV-D, eqs 10–11).

@@ -314,7 +314,7 @@ impl PhysicsEngine {
         }
         self.maybe_flush();
         let f = (acc * self.inv_oversample * self.settings.mass_kg) as f32;
-        if f.abs() < crate::FLUSH_THRESHOLD || !f.is_finite() {
+        if f.abs() < crate::block::FLUSH_THRESHOLD || !f.is_finite() {
             0.0
         } else {
             f

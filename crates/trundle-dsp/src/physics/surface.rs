@@ -1,5 +1,5 @@
 //! The surface under the ball: the offset curve (Rath's rolling filter over the fractal
-//! profile, [`crate::surface`]) read segment by segment as the ball rolls, cached, and
+//! profile, [`crate::physics::profile`]) read segment by segment as the ball rolls, cached, and
 //! evaluated at the exact position of every RK4 stage (TASLP §III; Rath 2003 §3).
 
 use super::*;

@@ -1,9 +1,9 @@
 //! Shared by the preset-level tests (`levels.rs`, `full_band.rs`): a preset's scene — its
 //! automation lanes and ball notes — rendered in stereo through the core's event loop
-//! ([`trundle_dsp::events`]), 4096 frames a block.
+//! ([`trundle_dsp::scene::events`]), 4096 frames a block.
 
-use trundle_dsp::events::{process_stereo_with_events, Scene};
-use trundle_dsp::preset::Preset;
+use trundle_dsp::scene::events::{process_stereo_with_events, Scene};
+use trundle_dsp::scene::preset::Preset;
 use trundle_dsp::{Params, Voice};
 
 /// `n` frames at `fs` of `preset`'s scene played by `voice`, its lanes and notes applied on

@@ -35,13 +35,16 @@ pub(super) fn disk_mesh(c: Pos2, r: f32, colours: [Color32; 3], dim: f32) -> egu
     const RINGS: usize = 10;
     const SEGMENTS: usize = 60;
     let mut mesh = egui::Mesh::default();
-    mesh.colored_vertex(c, blend(trundle_dsp::disk::weights(0.0, 0.0), colours, dim));
+    mesh.colored_vertex(
+        c,
+        blend(trundle_dsp::object::disk::weights(0.0, 0.0), colours, dim),
+    );
     for ring in 1..=RINGS {
         let rr = ring as f32 / RINGS as f32;
         for seg in 0..SEGMENTS {
             let a = std::f32::consts::TAU * seg as f32 / SEGMENTS as f32;
             let (x, y) = (rr * a.cos(), rr * a.sin());
-            let w = trundle_dsp::disk::weights(f64::from(x), f64::from(y));
+            let w = trundle_dsp::object::disk::weights(f64::from(x), f64::from(y));
             mesh.colored_vertex(disk_pos(c, r, x, y), blend(w, colours, dim));
         }
     }
@@ -99,7 +102,7 @@ pub(super) fn anchors(
     let p = ui.painter();
     let dot = 4.0 * t.scale;
     for i in 0..3 {
-        let (x, y) = trundle_dsp::disk::anchor(i);
+        let (x, y) = trundle_dsp::object::disk::anchor(i);
         let at = disk_pos(c, r, x as f32, y as f32);
         p.circle(at, dot, colours[i], Stroke::new(1.0, BG));
         let (dy, align) = if i == 2 {
@@ -214,7 +217,7 @@ pub(super) fn xy_disk(ui: &mut egui::Ui, body: Rect, setter: &ParamSetter, t: &T
     anchors(ui, c, r, d.names, d.colours, t);
     disk_cursor(ui, at, active, t);
 
-    let w = trundle_dsp::disk::weights(f64::from(x), f64::from(y));
+    let w = trundle_dsp::object::disk::weights(f64::from(x), f64::from(y));
     let text = format!(
         "{} {:.0} %   {} {:.0} %   {} {:.0} %",
         d.names[0],

@@ -66,7 +66,7 @@ use nice_plug::editor::SizeConstraints;
 use nice_plug::prelude::*;
 use nice_plug_egui::{create_egui_editor, EguiEditor, EguiNiceSettings, NiceEguiApp};
 use std::sync::Arc;
-use trundle_dsp::preset::{Preset, BUILTIN_PRESETS};
+use trundle_dsp::scene::preset::{Preset, BUILTIN_PRESETS};
 use trundle_dsp::{ParamId, Params, PARAMS};
 
 /// The design size (logical points): at this size the scale factor is 1.

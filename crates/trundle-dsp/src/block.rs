@@ -1,0 +1,27 @@
+//! The block the core works in: the internal chunk length, the subnormal flush threshold and
+//! the supported sample rates. A leaf: every stage imports these from here, and this module
+//! imports nothing of the model.
+
+/// Magnitude under which recursive state is flushed to exact zero (far above the f32
+/// subnormal limit 1.18·10⁻³⁸ and far below audibility, −400 dBFS).
+pub const FLUSH_THRESHOLD: f32 = 1.0e-20;
+
+/// Largest block the core processes in one internal chunk; longer blocks are split. State
+/// flushing and coefficient updates happen between chunks, so this also bounds how long a
+/// parameter ramp step lasts.
+pub const CHUNK: usize = 64;
+
+/// Lowest sample rate the core accepts (Hz).
+pub const MIN_SAMPLE_RATE_HZ: f64 = 8_000.0;
+/// Highest sample rate the core accepts (Hz).
+pub const MAX_SAMPLE_RATE_HZ: f64 = 384_000.0;
+
+/// Clamp a host-supplied sample rate into the supported range; a non-finite rate becomes
+/// 48 kHz. Returns the rate the core will run at.
+pub fn sanitize_sample_rate(sample_rate_hz: f64) -> f64 {
+    if sample_rate_hz.is_finite() {
+        sample_rate_hz.clamp(MIN_SAMPLE_RATE_HZ, MAX_SAMPLE_RATE_HZ)
+    } else {
+        48_000.0
+    }
+}

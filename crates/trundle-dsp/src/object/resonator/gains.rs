@@ -1,0 +1,222 @@
+//! How the object is excited and heard: the pickups' gains (balanced per channel), the
+//! input gains from the mode shapes at the ball, the side weights from the width, and the
+//! one level normalization and culling shared by recipe and fitted objects
+//! ([`Object::normalize_and_cull`]). Run when the ball, the listening point or the width move.
+
+use super::*;
+
+impl Object {
+    /// Set bank slot `k`'s input gain and side weight, wherever it runs.
+    pub(super) fn set_slot_gains(&mut self, k: usize, g: f64, d: f64) {
+        match self.long_of[k] {
+            NOT_LONG => self.bank.set_gains(k, g as f32, d as f32),
+            j => {
+                self.long.set_gains(usize::from(j), g, d);
+                self.bank.set_gains(k, 0.0, 0.0);
+            }
+        }
+    }
+
+    /// Pickup gains of every explicit and sampled high-band mode, balanced per channel.
+    pub(super) fn update_pickups(&mut self) {
+        let shape = self.shape;
+        let table = self.tables.modes(shape);
+        let (mi, ni) = self.tables.max_index(shape);
+        let upto = if shape == Shape::Plate {
+            // Only the indices the modes in use reach.
+            let mut u = 0usize;
+            for m in &table[..self.top.max(self.modes).min(table.len())] {
+                u = u.max(usize::from(m.m)).max(usize::from(m.n));
+            }
+            u
+        } else {
+            mi.max(ni).min(self.top.max(self.modes) + 2)
+        };
+        let p = pickups((self.listen_x.value(), self.listen_y.value()));
+        for (ps, &point) in self.pick_shapes.iter_mut().zip(p.iter()) {
+            ps.set(shape, point, upto);
+        }
+        // Balance: each channel's weighted mean square pickup gain is 1.
+        let (mut sum_w, mut sum_l, mut sum_r) = (0.0, 0.0, 0.0);
+        for (k, mode) in table.iter().enumerate().take(self.modes) {
+            let a = self.amp[k];
+            if a == 0.0 {
+                continue;
+            }
+            let pl = self.pick_shapes[0].phi(mode).abs();
+            let pr = self.pick_shapes[1].phi(mode).abs();
+            self.pick[k] = [pl, pr];
+            let w = a * a * self.info[k].decay_s;
+            sum_w += w;
+            sum_l += w * pl * pl;
+            sum_r += w * pr * pr;
+        }
+        for g in self.high[..self.n_high].iter_mut() {
+            let scale = g.count as f64 / g.n_samples as f64;
+            for i in 0..g.n_samples {
+                let mode = &table[g.samples[i]];
+                let pl = self.pick_shapes[0].phi(mode).abs();
+                let pr = self.pick_shapes[1].phi(mode).abs();
+                g.pick[i] = [pl, pr];
+                let w = g.weight[i] * scale;
+                sum_w += w;
+                sum_l += w * pl * pl;
+                sum_r += w * pr * pr;
+            }
+        }
+        let bl = if sum_l > 0.0 {
+            (sum_w / sum_l).sqrt()
+        } else {
+            1.0
+        };
+        let br = if sum_r > 0.0 {
+            (sum_w / sum_r).sqrt()
+        } else {
+            1.0
+        };
+        for k in 0..self.modes.min(table.len()) {
+            if self.amp[k] != 0.0 {
+                self.pick[k] = [self.pick[k][0] * bl, self.pick[k][1] * br];
+            }
+        }
+        for g in self.high[..self.n_high].iter_mut() {
+            for i in 0..g.n_samples {
+                g.pick[i] = [g.pick[i][0] * bl, g.pick[i][1] * br];
+            }
+        }
+        self.pickups_dirty = false;
+        self.gains_dirty = true;
+    }
+
+    /// Input gains and side weights from the ball position, the pickups and the width;
+    /// the level normalization; culling.
+    pub(super) fn update_gains(&mut self) {
+        let shape = self.shape;
+        let table = self.tables.modes(shape);
+        let upto = self.pick_shapes[0].evaluated().saturating_sub(1);
+        self.ball_shapes.set(shape, self.ball, upto);
+        let w = self.width.value();
+        let n = self.modes.min(table.len());
+        // Pre-normalization mid gains, and the total mid energy E.
+        let mut energy = 0.0;
+        let mut loudest = 0.0f64;
+        for (k, mode) in table.iter().enumerate().take(n) {
+            let a = self.amp[k];
+            if a == 0.0 {
+                self.info[k].gain = 0.0;
+                self.info[k].side = 0.0;
+                continue;
+            }
+            let e = self.ball_shapes.phi(mode);
+            let [ql, qr] = self.pick[k];
+            let mid = 0.5 * (ql + qr);
+            let x = a * e * mid;
+            self.info[k].gain = x;
+            self.info[k].side = if mid > 0.0 {
+                w * 0.5 * (ql - qr) / mid
+            } else {
+                0.0
+            };
+            let p = x * x * self.info[k].decay_s;
+            energy += p;
+            loudest = loudest.max(p);
+        }
+        for g in self.high[..self.n_high].iter_mut() {
+            let scale = g.count as f64 / g.n_samples as f64;
+            let (mut em, mut es, mut lr) = (0.0, 0.0, 0.0);
+            for i in 0..g.n_samples {
+                let e = self.ball_shapes.phi(&table[g.samples[i]]);
+                let [ql, qr] = g.pick[i];
+                let we = g.weight[i] * e * e;
+                em += we * 0.25 * (ql + qr) * (ql + qr);
+                es += we * 0.25 * w * w * (ql - qr) * (ql - qr);
+                lr += we * (ql * ql - qr * qr);
+            }
+            em *= scale;
+            es *= scale;
+            g.info.gain = (em / g.info.decay_s).sqrt();
+            g.info.side = if em > 0.0 {
+                (es / em).sqrt().copysign(lr)
+            } else {
+                0.0
+            };
+            energy += em;
+        }
+        self.normalize_and_cull(n, energy, loudest, self.n_high);
+    }
+
+    /// Gains and side weights of a fitted object: the recipe's level law (a white force
+    /// gives the same loudness), culling, the pseudo-random stereo image ([`fitted`]).
+    pub(super) fn update_gains_loaded(&mut self) {
+        let w = self.width.value();
+        let n = self.modes;
+        let (mut energy, mut loudest) = (0.0f64, 0.0f64);
+        for k in 0..n {
+            let a = self.amp[k];
+            let p = a * a * self.info[k].decay_s;
+            energy += p;
+            loudest = loudest.max(p);
+            if a != 0.0 {
+                self.info[k].gain = a;
+                self.info[k].side = w * SIDE_SPREAD * self.pick[k][0];
+            }
+        }
+        self.normalize_and_cull(n, energy, loudest, 0);
+    }
+
+    /// The level law and culling, one for recipe and fitted objects: with the modes'
+    /// pre-normalization mid gains xₖ and side weights in `info` (and the first `high`
+    /// high-band groups' in `high`), E the total energy Σ xₖ²·τₖ, the input gains become
+    /// gₖ = xₖ·G/(f_s·√E) ([`OBJECT_LEVEL`]); a mode whose xₖ²·τₖ is under the culling ratio
+    /// of `loudest` gets no input, as do modes beyond the first `n` and the unused
+    /// high-band slots (which keep their poles and ring out). Sets the bank's processed
+    /// ranges to what sounds or still rings.
+    pub(super) fn normalize_and_cull(&mut self, n: usize, energy: f64, loudest: f64, high: usize) {
+        let norm = if energy > 0.0 {
+            OBJECT_LEVEL / (self.fs * energy.sqrt())
+        } else {
+            0.0
+        };
+        self.norm = norm;
+        let cull_below = loudest * self.cull_ratio;
+        self.culled = 0;
+        let mut last_active = 0;
+        for k in 0..n.max(self.bank.active()).min(self.info.len()) {
+            let sounding = k < n && self.amp[k] != 0.0;
+            let info = self.info[k];
+            let culled = sounding && info.gain * info.gain * info.decay_s < cull_below;
+            self.culled += culled as usize;
+            let g = if sounding { info.gain * norm } else { 0.0 };
+            self.info[k].gain = g;
+            if sounding && !culled {
+                self.set_slot_gains(k, g, info.side);
+                last_active = k + 1;
+            } else {
+                // Dropped, beyond the count or culled: no input; a mode still ringing keeps
+                // its pole (set in `update_poles`) and rings out at its own rate.
+                self.set_slot_gains(k, 0.0, info.side);
+                if self.slot_ringing(k) || (sounding && culled) {
+                    last_active = k + 1;
+                }
+            }
+        }
+        let mut tail = high;
+        for j in 0..HIGH_SLOTS_MAX {
+            let slot = HIGH_BASE + j;
+            if j < high {
+                self.high[j].info.gain *= norm;
+                let info = self.high[j].info;
+                self.set_slot_gains(slot, info.gain, info.side);
+            } else {
+                let d = self.high[j].info.side;
+                self.set_slot_gains(slot, 0.0, d);
+                if self.slot_ringing(slot) {
+                    tail = j + 1;
+                }
+            }
+        }
+        self.bank.set_active(last_active.div_ceil(LANES) * LANES);
+        self.bank.set_tail(HIGH_BASE, tail);
+        self.gains_dirty = false;
+    }
+}

@@ -1,0 +1,380 @@
+//! The limiter's tests, and the reference its division-free frame path is held to.
+
+use super::*;
+
+/// After acting, the limiter returns to exactly unity gain: later quiet samples pass
+/// bit for bit (delayed) and are not counted as touched.
+#[test]
+fn release_returns_to_exact_transparency() {
+    let fs = 48_000.0;
+    let mut lim = Limiter::new(fs);
+    let len = lim.latency_samples();
+    for i in 0..1_000 {
+        let x = if i == 100 { 2.0 } else { 0.1 };
+        lim.process_frame(x, x);
+    }
+    // Two seconds of release (25 time constants).
+    for _ in 0..96_000 {
+        lim.process_frame(0.1, -0.1);
+    }
+    let touched = lim.touched();
+    for i in 0..10_000 {
+        let x = (i as f32 * 0.01).sin() * 0.5;
+        let (l, _) = lim.process_frame(x, x);
+        if i >= len {
+            let want = ((i - len) as f32 * 0.01).sin() * 0.5;
+            assert_eq!(l, want, "sample {i}");
+        }
+    }
+    assert_eq!(lim.touched(), touched, "quiet samples counted as touched");
+}
+
+fn noise(n: usize, seed: u32) -> Vec<f32> {
+    let mut s = seed;
+    (0..n)
+        .map(|_| {
+            s = s.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (s >> 8) as f32 / (1u32 << 24) as f32 - 0.5
+        })
+        .collect()
+}
+
+/// The division-free frame path gives, bit for bit, what the first version (a division
+/// for every ring index) gives, and the same state: loud noise, slow loud sines, quiet
+/// stretches, NaN and infinity, at 44.1, 48 and 96 kHz, enabled and not.
+#[test]
+fn frame_path_matches_the_division_reference() {
+    for fs in [44_100.0, 48_000.0, 96_000.0] {
+        for enabled in [true, false] {
+            let mut new = Limiter::new(fs);
+            new.set_enabled(enabled);
+            let mut reference = new.clone();
+            let mut seed = 11u32;
+            for i in 0..60_000usize {
+                seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+                let noise = (seed >> 8) as f32 / (1u32 << 24) as f32 - 0.5;
+                let sine = (i as f32 * 2.0 * std::f32::consts::PI * 40.0 / 48_000.0).sin();
+                let x = match (i / 5_000) % 4 {
+                    0 => noise * 3.0,
+                    1 => 4.0 * sine,
+                    2 => noise * 0.2,
+                    _ => 1.5 * sine + noise,
+                };
+                let x = match i % 4_999 {
+                    17 => f32::NAN,
+                    18 => f32::INFINITY,
+                    _ => x,
+                };
+                let y = -0.8 * x + noise * 0.1;
+                let a = new.process_frame(x, y);
+                let b = reference.process_frame_reference(x, y);
+                assert_eq!(
+                    (a.0.to_bits(), a.1.to_bits()),
+                    (b.0.to_bits(), b.1.to_bits()),
+                    "fs {fs}, enabled {enabled}, sample {i}"
+                );
+                assert_eq!(
+                    (new.dq_head, new.dq_len),
+                    (reference.dq_head, reference.dq_len)
+                );
+                assert_eq!(new.req_pos as u64, new.t % (new.len as u64 + 1));
+                assert_eq!(new.slot as u64, new.t % new.len as u64);
+            }
+            assert_eq!(new.touched(), reference.touched());
+            assert_eq!(new.box_sum.to_bits(), reference.box_sum.to_bits());
+            assert_eq!(new.calm, reference.calm);
+        }
+    }
+}
+
+/// The running minimum is exact when the required gain rises for longer than the window
+/// (a slow fall from a loud peak: a 30 Hz sine at 4× the ceiling): the deque never holds
+/// more than the window, and the held gain is the true minimum of the last len + 1.
+#[test]
+fn running_minimum_survives_long_rising_gain_runs() {
+    let mut lim = Limiter::new(48_000.0);
+    let cap = lim.len + 1;
+    let mut reqs: Vec<f32> = Vec::new();
+    for i in 0..48_000 {
+        let x = 4.0 * (i as f32 * 2.0 * std::f32::consts::PI * 30.0 / 48_000.0).sin();
+        let peak = x.abs();
+        reqs.push(if peak > lim.ceiling() {
+            lim.ceiling() / peak
+        } else {
+            1.0
+        });
+        lim.process_frame(x, -x);
+        assert!(
+            lim.dq_len <= cap,
+            "sample {i}: deque {} > ring {cap}",
+            lim.dq_len
+        );
+        let want = reqs[reqs.len().saturating_sub(cap)..]
+            .iter()
+            .fold(1.0f32, |m, g| m.min(*g));
+        let held = lim.req[(lim.deque[lim.dq_head] % cap as u64) as usize];
+        assert_eq!(held, want, "sample {i}");
+    }
+}
+
+/// `process_stereo` (with its fast path at rest) gives exactly what `process_frame` gives
+/// frame by frame, and leaves the same state: quiet stretches, peaks above the ceiling,
+/// non-finite samples, exact-ceiling samples, blocks of every size, enabled and not.
+#[test]
+fn block_path_is_bit_identical_to_the_frame_path() {
+    for enabled in [true, false] {
+        let mut fast = Limiter::new(48_000.0);
+        fast.set_enabled(enabled);
+        let mut slow = fast.clone();
+        let c = fast.ceiling();
+        let mut seed = 7u32;
+        let mut rnd = move || {
+            seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (seed >> 8) as f32 / (1u32 << 24) as f32
+        };
+        let mut at = 0usize;
+        for block in 0..3_000 {
+            let n = [1, 7, 64, 71, 72, 73, 200, 512][block % 8];
+            let loud = block % 37 == 5 || block % 53 == 11;
+            let mut l: Vec<f32> = (0..n)
+                .map(|i| {
+                    let x = (rnd() - 0.5) * if loud && i == n / 2 { 4.0 } else { 0.5 };
+                    match (block + i) % 997 {
+                        3 => f32::NAN,
+                        4 => c,
+                        5 => -0.0,
+                        6 => 1e-35,
+                        _ => x,
+                    }
+                })
+                .collect();
+            let mut r: Vec<f32> = l.iter().map(|x| x * 0.7 + (rnd() - 0.5) * 0.1).collect();
+            let want: Vec<(f32, f32)> = l
+                .iter()
+                .zip(&r)
+                .map(|(a, b)| slow.process_frame(*a, *b))
+                .collect();
+            fast.process_stereo(&mut l, &mut r);
+            for (i, (w, (a, b))) in want.iter().zip(l.iter().zip(&r)).enumerate() {
+                assert_eq!(
+                    (w.0.to_bits(), w.1.to_bits()),
+                    (a.to_bits(), b.to_bits()),
+                    "enabled {enabled}, sample {}",
+                    at + i
+                );
+            }
+            at += n;
+            assert_eq!(fast.touched(), slow.touched());
+            assert_eq!(fast.t, slow.t);
+            assert_eq!(fast.box_sum.to_bits(), slow.box_sum.to_bits());
+            assert_eq!(fast.released.to_bits(), slow.released.to_bits());
+            assert_eq!((fast.dq_head, fast.dq_len), (slow.dq_head, slow.dq_len));
+            assert_eq!(fast.calm, slow.calm);
+            assert_eq!((fast.req_pos, fast.slot), (slow.req_pos, slow.slot));
+            if block % 100 == 0 {
+                assert_eq!(fast.gain_reduction_db(), slow.gain_reduction_db());
+            }
+        }
+    }
+}
+
+#[test]
+fn quiet_signal_passes_delayed_and_untouched() {
+    let mut lim = Limiter::new(48_000.0);
+    let d = lim.latency_samples();
+    assert_eq!(d, 72);
+    let x = noise(4800, 1); // peak 0.5 < ceiling 0.891
+    let mut l = x.clone();
+    let mut r = x.clone();
+    lim.process_stereo(&mut l, &mut r);
+    for i in d..x.len() {
+        assert_eq!(l[i], x[i - d]);
+        assert_eq!(r[i], x[i - d]);
+    }
+    assert_eq!(lim.touched(), 0);
+    assert_eq!(lim.gain_reduction_db(), 0.0);
+}
+
+#[test]
+fn peaks_stay_below_the_ceiling_at_every_rate() {
+    for fs in [8_000.0, 44_100.0, 48_000.0, 96_000.0, 384_000.0] {
+        let mut lim = Limiter::new(fs);
+        // Impacts 20 dB over full scale on a quiet bed, and a loud burst.
+        let mut l = noise(20_000, 3);
+        let mut r = noise(20_000, 4);
+        for k in (100..20_000).step_by(997) {
+            l[k] = 10.0;
+            r[k + 1 - 1] = -7.0;
+        }
+        for x in &mut l[12_000..13_000] {
+            *x *= 30.0;
+        }
+        lim.process_stereo(&mut l, &mut r);
+        let c = lim.ceiling();
+        let peak = l.iter().chain(&r).fold(0f32, |m, x| m.max(x.abs()));
+        assert!(peak <= c, "fs {fs}: peak {peak} > ceiling {c}");
+        assert!(lim.gain_reduction_db() < -20.0);
+    }
+}
+
+#[test]
+fn the_gain_is_smooth_not_a_clipper() {
+    // A single 10× spike: the gain glides down over the look-ahead, the spike leaves at
+    // (just below) the ceiling, and the neighbours are scaled, not clipped.
+    let mut lim = Limiter::new(48_000.0);
+    let n = 30_000;
+    let mut l = vec![0.1f32; n];
+    l[500] = 10.0;
+    let mut r = l.clone();
+    lim.process_stereo(&mut l, &mut r);
+    let d = lim.latency_samples();
+    let out_peak = l[500 + d];
+    assert!(out_peak <= lim.ceiling() && out_peak > 0.5 * lim.ceiling());
+    // Just before the spike the gain is already down (look-ahead), smoothly.
+    let before = l[500 + d - 1] / 0.1;
+    assert!(before < 0.6, "gain before the spike {before}");
+    // The gain is a box average of `d` values in [0, 1]: it moves by at most 1/d per
+    // sample (no step a clipper would make). Measured on the 0.1 bed, skipping the spike.
+    let gains: Vec<f32> = (d..n)
+        .filter(|&i| i != 500 + d)
+        .map(|i| l[i] / 0.1)
+        .collect();
+    let max_step = gains
+        .windows(2)
+        .map(|w| (w[1] - w[0]).abs())
+        .fold(0f32, f32::max);
+    // Skipping the spike joins two samples two apart: allow two steps.
+    assert!(max_step <= 2.0 / d as f32 + 1e-4, "gain step {max_step}");
+    // Released within a few time constants.
+    let late = l[500 + d + (5.0 * RELEASE_S * 48_000.0) as usize] / 0.1;
+    assert!(late > 0.99, "gain 5 release constants later {late}");
+}
+
+#[test]
+fn bypass_keeps_the_latency_and_the_samples() {
+    let mut lim = Limiter::new(48_000.0);
+    lim.set_enabled(false);
+    let x: Vec<f32> = noise(1000, 9).iter().map(|v| v * 10.0).collect();
+    let mut l = x.clone();
+    let mut r = x.clone();
+    lim.process_stereo(&mut l, &mut r);
+    let d = lim.latency_samples();
+    for i in d..x.len() {
+        assert_eq!(l[i], x[i - d]);
+    }
+}
+
+#[test]
+fn block_size_does_not_change_the_output() {
+    let x: Vec<f32> = noise(10_000, 5).iter().map(|v| v * 6.0).collect();
+    let mut whole = x.clone();
+    let mut whole_r = x.clone();
+    Limiter::new(44_100.0).process_stereo(&mut whole, &mut whole_r);
+    let mut lim = Limiter::new(44_100.0);
+    let mut pieces = x.clone();
+    let mut pieces_r = x.clone();
+    let mut i = 0;
+    let mut len = 1;
+    while i < x.len() {
+        let e = (i + len).min(x.len());
+        lim.process_stereo(&mut pieces[i..e], &mut pieces_r[i..e]);
+        i = e;
+        len = len * 3 % 997 + 1;
+    }
+    assert_eq!(whole, pieces);
+}
+
+#[test]
+fn non_finite_input_becomes_silence_not_nan() {
+    let mut lim = Limiter::new(48_000.0);
+    let mut l = vec![f32::NAN, f32::INFINITY, 1e-40, 0.5];
+    l.extend(std::iter::repeat_n(0.0, 200));
+    let mut r = l.clone();
+    lim.process_stereo(&mut l, &mut r);
+    assert!(l
+        .iter()
+        .all(|x| x.is_finite() && (*x == 0.0 || x.abs() > 1e-30)));
+}
+
+impl Limiter {
+    /// The frame path as it was written first (divisions for every ring index): the
+    /// reference the division-free [`Limiter::process_frame`] is tested against.
+    pub(super) fn process_frame_reference(&mut self, l: f32, r: f32) -> (f32, f32) {
+        let l = if l.is_finite() { l } else { 0.0 };
+        let r = if r.is_finite() { r } else { 0.0 };
+        let peak = l.abs().max(r.abs());
+        let g_req = if peak > self.ceiling {
+            self.ceiling / peak
+        } else {
+            1.0
+        };
+        // Running minimum over the last len + 1 required gains (monotonic deque).
+        let cap = self.len + 1;
+        let t = self.t;
+        self.req[(t % cap as u64) as usize] = g_req;
+        while self.dq_len > 0 {
+            let back = self.deque[(self.dq_head + self.dq_len - 1) % cap];
+            if self.req[(back % cap as u64) as usize] >= g_req {
+                self.dq_len -= 1;
+            } else {
+                break;
+            }
+        }
+        // Drop the entry leaving the window before pushing: the window holds len + 1 gains,
+        // so the ring of len + 1 never overflows. (Pushing first overflowed it whenever the
+        // required gain rose for more than len + 1 samples in a row — a loud peak decaying
+        // slowly — and the ring's oldest entries were overwritten.)
+        while self.dq_len > 0 && t - self.deque[self.dq_head] >= cap as u64 {
+            self.dq_head = (self.dq_head + 1) % cap;
+            self.dq_len -= 1;
+        }
+        self.deque[(self.dq_head + self.dq_len) % cap] = t;
+        self.dq_len += 1;
+        let held = self.req[(self.deque[self.dq_head] % cap as u64) as usize];
+        // Release: fall at once, rise by a one-pole.
+        // Release in f64 (in f32 the one-pole's step rounds to nothing 10⁻⁴ below unity
+        // and the gain would stall there); within 10⁻⁹ of the held gain it snaps to it, so
+        // an idle limiter is exactly transparent. Still ≤ the held gain: the ceiling holds.
+        let held = f64::from(held);
+        self.released = if held < self.released {
+            held
+        } else {
+            let next = self.released + (held - self.released) * self.release_coef;
+            if held - next < 1e-9 {
+                held
+            } else {
+                next
+            }
+        };
+        // Box average over the last len released gains.
+        let slot = (t % self.len as u64) as usize;
+        self.box_sum += self.released - self.box_vals[slot];
+        self.box_vals[slot] = self.released;
+        if slot == 0 {
+            // Re-sum once per window: no drift of the running sum, however long the render.
+            self.box_sum = self.box_vals.iter().sum();
+        }
+        let gain = ((self.box_sum / self.len as f64) as f32).min(1.0);
+        self.calm = if g_req == 1.0 && self.released == 1.0 {
+            self.calm.saturating_add(1)
+        } else {
+            0
+        };
+        // Delay line.
+        let dl = std::mem::replace(&mut self.delay_l[slot], l);
+        let dr = std::mem::replace(&mut self.delay_r[slot], r);
+        self.t += 1;
+        if !self.enabled {
+            return (dl, dr);
+        }
+        if gain < 1.0 - 1e-6 {
+            self.touched += 1;
+        }
+        self.meter_min = self.meter_min.min(gain);
+        let c = self.ceiling;
+        (
+            flush((dl * gain).clamp(-c, c)),
+            flush((dr * gain).clamp(-c, c)),
+        )
+    }
+}
