@@ -5,23 +5,29 @@
 //! an **action** — the ball/surface interaction force, a series of micro-impacts with
 //! specific statistics — drives an **object**, a Mathews–Smith resonant filter bank.
 //!
+//! The voice is a chain of stages ([`stage::Stage`], one lifecycle), each in the folder of
+//! what it models:
+//!
 //! ```text
-//!  controls (S size, V velocity, ρ roughness, m asymmetry, ξ sharpness, seed)
-//!     │
-//!     ▼
-//!  series ──────► pulse ──────► modulation ─────────► lowpass ──────┐
-//!  (Aⁿ, Δⁿ_T)     φ_ξ(t), t₀(A)  1 + m·sin(2π·3V/S·t)   f_c(V), gain(V) │ force f(t)
-//!  ARMA(1,1)                                                          ▼
-//!                                              modal (Mathews–Smith phasor bank) ──► out
-//!                                              ▲ material (wood/metal/glass disk),
-//!                                              │ shape (string/bar/plate/membrane/shell),
-//!                                              │ object size, number of modes
+//!  Params (one table) ──► every stage's controls (Stage::set_params)
+//!
+//!  source::chain ─────────► scene::engine_mix ──► scene::gesture ──► scene::space ──► + scene::balls
+//!  series → pulse → AM      signal model, or       drops, spins,     position comb      (note balls)
+//!  → low-pass (the force)   physics (Hunt–Crossley  seams                                + scene::crowd
+//!                           ball, RK4), crossfade                                         (N balls)
+//!                                                                                            │ force f(t)
+//!        ┌───────────────────────────────────────────────────────────────────────────────────┘
+//!        ▼
+//!  source::dcblock ──► object::resonator (Mathews–Smith phasor bank; material disk, shape,
+//!                      size, modes, high band, or a fitted object) ──► mid, side ──► gain ──► out
+//!                      scene::twins: the same object for the physics engine's level match
+//!  (scene::limiter, the output safety limiter, runs after the voice in the plugin and the CLI)
 //! ```
 //!
 //! The crate is layered; a module imports only from its own layer or the ones before it:
 //!
 //! ```text
-//!  block, smooth ─► params ─► analysis ─► object ─► source ─► physics ─► scene ─► fit
+//!  block, smooth ─► params ─► stage ─► analysis ─► object ─► source ─► physics ─► scene ─► fit
 //! ```
 //!
 //! | module | models | paper |
@@ -29,6 +35,7 @@
 //! | [`block`] | the internal chunk, the flush threshold, the supported sample rates (a leaf) | — |
 //! | [`smooth`] | the one-pole control smoother | — |
 //! | [`params`] | the single parameter table (IDs, ranges, units, defaults) | — |
+//! | [`stage`] | the one lifecycle every stage of the voice implements | — |
 //! | [`analysis`] | impact extraction, ARMA(1,1) Gauss–Newton fit, residual statistics; the Toeplitz solver | TASLP §IV-B, §IV-E; Levinson 1947 |
 //! | [`object`] | the resonant object: shape × material × size → a Mathews–Smith phasor bank heard at two pickups, a high band, fitted objects | CMJ "Object part"; Mathews & Smith 2003; Aramaki 2011 |
 //! | [`source`] | the signal model of the force: impact series (Table I, the action disk), pulses, AM, low-pass, Hertz contact | TASLP §IV–V, Fig. 5; Johnson §11.4 |
@@ -90,15 +97,18 @@
 //! | mode frequency | f | Hz | 20 Hz … Nyquist |
 //! | mode decay time (1/e) | τ | s | 0.2 ms … 60 s |
 //!
-//! ## Lifecycle (every DSP type)
+//! ## Lifecycle (every stage, [`stage::Stage`])
 //!
 //! 1. `new(…)` — the only place that allocates (with `set_sample_rate`); documented in an
 //!    `# Allocation` section.
 //! 2. `set_sample_rate(fs)` — may allocate; call off the audio thread.
-//! 3. `reset()` — real-time safe, restores the state after `new` and reseeds the random
-//!    generator: the same seed and parameters give the same samples.
-//! 4. `process(&mut [f32])` — real-time safe: no allocation, locking, logging or I/O, any
-//!    block length (the output is identical whatever the block size).
+//! 3. `reset(seed)` — real-time safe, restores the state after `new` and reseeds the random
+//!    generators: the same seed and parameters give the same samples.
+//! 4. `set_params(&Params)` — real-time safe: the stage takes its controls from the one
+//!    parameter table (continuous ones glide).
+//! 5. `process(…)` — real-time safe: no allocation, locking, logging or I/O; statically
+//!    dispatched. The voice renders any block length in chunks of [`block::CHUNK`] (the
+//!    output is identical whatever the block size).
 //!
 //! Decaying state is kept out of the subnormal range by the core itself (state below
 //! [`block::FLUSH_THRESHOLD`] is flushed to zero between internal chunks); nothing relies on the
@@ -116,6 +126,7 @@ pub mod physics;
 pub mod scene;
 pub mod smooth;
 pub mod source;
+pub mod stage;
 
 pub use params::{ParamError, ParamId, ParamSpec, Params, PARAMS};
 pub use scene::voice::Voice;

@@ -73,7 +73,9 @@ use crate::object::long_bank::{LongBank, LONG_MODE_SAMPLES};
 use crate::object::material::Material;
 use crate::object::quality::{Quality, HIGH_SLOTS_MAX};
 use crate::object::shape::{PositionShapes, Shape, ShapeTables, MAX_MODES, REFERENCE_MODES};
+use crate::params::{ParamId, Params};
 use crate::smooth::Smoother;
+use crate::stage::Stage;
 use std::sync::Arc;
 
 mod gains;
@@ -603,6 +605,52 @@ fn db_to_power(db: f64) -> f64 {
         0.0
     } else {
         10f64.powf(db.min(0.0) / 10.0)
+    }
+}
+
+impl ObjectControls {
+    /// The object controls in a parameter set.
+    pub fn from_params(p: &Params) -> Self {
+        Self {
+            material_x: p.get(ParamId::MaterialX),
+            material_y: p.get(ParamId::MaterialY),
+            size_m: p.get(ParamId::ObjectSize),
+            shape: p.shape(),
+            modes: p.modes(),
+            decay: p.get(ParamId::Decay),
+            listen: (p.get(ParamId::ListenX), p.get(ParamId::ListenY)),
+            width: p.width(),
+        }
+    }
+}
+
+impl Stage for Object {
+    /// The chunk of force the object hears, and its mid and side out (overwritten).
+    type Io<'a> = (&'a [f32], &'a mut [f32], &'a mut [f32]);
+
+    fn set_sample_rate(&mut self, sample_rate_hz: f64) {
+        Object::set_sample_rate(self, sample_rate_hz);
+    }
+
+    fn reset(&mut self, _seed: u64) {
+        Object::reset(self);
+    }
+
+    fn set_params(&mut self, params: &Params) {
+        self.set_quality(params.quality());
+        self.set_controls(ObjectControls::from_params(params));
+    }
+
+    fn snap(&mut self) {
+        self.snap_controls();
+    }
+
+    fn is_idle(&self) -> bool {
+        Object::is_idle(self)
+    }
+
+    fn process(&mut self, (force, mid, side): (&[f32], &mut [f32], &mut [f32])) {
+        self.process_chunk_stereo(force, mid, side);
     }
 }
 

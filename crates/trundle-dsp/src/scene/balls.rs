@@ -68,6 +68,7 @@ use crate::scene::gesture::{Gesture, GestureControls, GestureKind};
 use crate::scene::space::{Space, SpaceControls};
 use crate::scene::stop::{STOP_DECELERATION_M_S2, STOP_SOFT_SPEED};
 use crate::source::chain::{Source, SourceControls};
+use crate::stage::Stage;
 
 /// Most extra balls a voice holds.
 pub const MAX_BALLS: usize = 16;
@@ -570,6 +571,43 @@ impl BallPool {
                     push_ended(&mut self.ended, &mut self.ended_count, b.id);
                 }
             }
+        }
+    }
+}
+
+impl Stage for BallPool {
+    /// The chunk of force the balls add to, and the parameters their controls follow.
+    type Io<'a> = (&'a mut [f32], &'a Params);
+
+    /// Stops every ball (the gesture controls are kept).
+    fn set_sample_rate(&mut self, sample_rate_hz: f64) {
+        let gesture = self.gesture;
+        BallPool::set_sample_rate(self, sample_rate_hz);
+        self.set_gesture(gesture);
+    }
+
+    fn reset(&mut self, seed: u64) {
+        BallPool::reset(self, seed);
+    }
+
+    fn set_params(&mut self, params: &Params) {
+        self.set_gesture(GestureControls::from_params(params));
+    }
+
+    fn snap(&mut self) {}
+
+    fn is_idle(&self) -> bool {
+        self.active() == 0
+    }
+
+    /// Extra balls roll on the same object: their forces add before it.
+    fn process(&mut self, (force, params): (&mut [f32], &Params)) {
+        if self.active() > 0 {
+            let (sc, pc) = (
+                SourceControls::from_params(params),
+                SpaceControls::from_params(params),
+            );
+            self.add_chunk(force, sc, pc);
         }
     }
 }

@@ -66,15 +66,21 @@
 //! processing, never allocate.
 
 use crate::block::CHUNK;
+use crate::params::{ParamId, Params};
 use crate::smooth::Smoother;
 use crate::source::action::{ActionSeries, SeriesState};
 use crate::source::chain::{Source, SourceControls, ACTION_UPDATE_S};
 use crate::source::lowpass::{cutoff_hz, loudness, size_gain, Lowpass};
 use crate::source::prototype::ActionParams;
 use crate::source::pulse::{duration_s, PulseEval, PulseShape, PulseTrain, T0_MAX_S};
+use crate::stage::Stage;
 use rand::rngs::SmallRng;
 use rand::{Rng, SeedableRng};
 use rand_distr::StandardNormal;
+
+mod merged;
+
+use merged::Merged;
 
 /// Most balls in a crowd (the scene's ball included).
 pub const MAX_CROWD: usize = 1000;
@@ -158,33 +164,6 @@ impl Scatter {
     }
 }
 
-/// The merged balls' shared impact process (module docs).
-#[derive(Clone, Debug)]
-struct Merged {
-    /// The scene's densities and the shared generator.
-    series: ActionSeries,
-    /// Each ball's own ARMA(1,1) state.
-    states: Vec<SeriesState>,
-    shape: PulseShape,
-    /// One pulse ring and one low-pass per speed group.
-    trains: Vec<PulseTrain>,
-    lps: [Lowpass; SPEED_GROUPS],
-    rng: SmallRng,
-    /// Each ball's next impact centre, in samples from the next output sample (only the
-    /// merged balls' clocks run).
-    next_center: Vec<f64>,
-    /// Each ball's L(Vᵢ)·G(Sᵢ) and Sᵢ/S, and the (S, V, spread) they are for.
-    scale: Vec<(f64, f64)>,
-    scale_at: (f64, f64, f64),
-    /// Which balls were merged at the last assignment (a ball joining starts its clock at a
-    /// random phase).
-    was_merged: Vec<bool>,
-    /// (x, y, S, ρ) the series' parameters were made for.
-    action_at: [f64; 4],
-    action_age: usize,
-    impacts: u64,
-}
-
 /// Up to [`MAX_CROWD`] balls on the scene's object (module docs).
 ///
 /// # Allocation
@@ -193,6 +172,8 @@ struct Merged {
 pub struct Crowd {
     fs: f64,
     seed: u64,
+    /// The scene ball's controls last followed.
+    scene: SourceControls,
     controls: CrowdControls,
     scatter: Vec<Scatter>,
     /// Ball indices 1…MAX_CROWD−1, loudest first.
@@ -242,6 +223,7 @@ impl Crowd {
         let mut c = Self {
             fs,
             seed,
+            scene,
             controls: CrowdControls::default(),
             scatter: vec![Scatter::default(); MAX_CROWD],
             order: (1..MAX_CROWD as u16).collect(),
@@ -459,68 +441,6 @@ impl Crowd {
         }
     }
 
-    /// How many merged balls play (the loudest first) and the gain that makes up for the
-    /// others: at most [`MAX_MERGED_IMPACTS_PER_S`] impacts a second. Independent balls add
-    /// in power, so K of M balls scaled by √(W_M/W_K) (W: the balls' summed power
-    /// L(Vᵢ)²·G(Sᵢ)²) have the crowd's expected spectrum; only dense contacts (a rub makes
-    /// tens of thousands of impacts a second per ball) reach the budget. Computed again when
-    /// the rate, the membership or the spread changes.
-    fn impact_budget(&mut self, size: f64, velocity: f64) -> (usize, f64) {
-        let members = self.merged_count;
-        let ap = self.merged.series.params();
-        let rate_hz = 1.0
-            / ap.expected_mean_interval_s()
-                .max(ap.min_interval_s)
-                .max(1e-6);
-        let key = [rate_hz, members as f64, self.controls.spread];
-        if key != self.budget_at {
-            self.budget_at = key;
-            let fit = ((MAX_MERGED_IMPACTS_PER_S / rate_hz).floor() as usize).max(1);
-            let played = members.min(fit);
-            let (mut all, mut kept) = (0.0, 0.0);
-            for (i, &b) in self.merged_balls[..members].iter().enumerate() {
-                let (s, v) = self.scatter[usize::from(b)].apply(
-                    size,
-                    velocity.max(1e-3),
-                    self.controls.spread,
-                );
-                let w = v * size_gain(s).powi(2);
-                all += w;
-                if i < played {
-                    kept += w;
-                }
-            }
-            self.budget = (played, if kept > 0.0 { (all / kept).sqrt() } else { 1.0 });
-        }
-        self.budget
-    }
-
-    /// The merged balls' one low-pass: the cutoff whose two-pole skirt (power ∝ f_c⁴/f⁴
-    /// above it) carries the same high-frequency power as their own low-passes would,
-    /// f_c = (Σ wᵢ·f_c(Vᵢ)⁴ / Σ wᵢ)^¼ with wᵢ = L(Vᵢ)²·G(Sᵢ)² each ball's power. Computed
-    /// again when S, V or the assignment changes (one pass over the merged balls).
-    fn merged_cutoff(&mut self, size: f64, velocity: f64) -> [f64; SPEED_GROUPS] {
-        if (size, velocity) != self.merged_cutoff_at {
-            let (mut num, mut den) = ([0.0; SPEED_GROUPS], [0.0; SPEED_GROUPS]);
-            for &b in &self.merged_balls[..self.merged_count] {
-                let sc = self.scatter[usize::from(b)];
-                let (s, v) = sc.apply(size, velocity, self.controls.spread);
-                let w = v * size_gain(s).powi(2);
-                num[sc.group()] += w * v;
-                den[sc.group()] += w;
-            }
-            for g in 0..SPEED_GROUPS {
-                self.merged_cutoff_hz[g] = if den[g] > 0.0 {
-                    cutoff_hz(num[g] / den[g])
-                } else {
-                    cutoff_hz(velocity)
-                };
-            }
-            self.merged_cutoff_at = (size, velocity);
-        }
-        self.merged_cutoff_hz
-    }
-
     /// Ball `i`'s controls: the scene's, with its own size and speed.
     fn ball_controls(&self, scene: SourceControls, i: usize) -> SourceControls {
         let (size, velocity) =
@@ -612,76 +532,6 @@ impl Crowd {
         }
         [s1, v0, v1, c1]
     }
-
-    fn merged_chunk(&mut self, force: &mut [f32], [s1, v0, v1, c1]: [f64; 4]) -> bool {
-        let n = force.len().min(CHUNK);
-        let fs = self.fs;
-        let cutoff = self.merged_cutoff(s1, v1);
-        let (played, played_gain) = self.impact_budget(s1, v1);
-        let m = &mut self.merged;
-        let members = self.merged_count;
-        let lead = 0.5 * T0_MAX_S * fs;
-        let nf = n as f64;
-        if members > 0 && !(v0 == 0.0 && v1 == 0.0) {
-            let ap = *m.series.params();
-            let gain = ap.pulse_gain * ap.level_gain / c1 * played_gain;
-            if (s1, v1, self.controls.spread) != m.scale_at {
-                // Each merged ball's level L(Vᵢ)·G(Sᵢ) and size ratio Sᵢ/S, computed again
-                // only when S, V or the spread move (not per impact).
-                m.scale_at = (s1, v1, self.controls.spread);
-                for &b in &self.merged_balls[..members] {
-                    let j = usize::from(b);
-                    let (size, speed) = self.scatter[j].apply(s1, v1, self.controls.spread);
-                    m.scale[j] = (loudness(speed) * size_gain(size), size / s1);
-                }
-            }
-            for &b in &self.merged_balls[..played] {
-                let j = usize::from(b);
-                let mut t = m.next_center[j];
-                if t - lead < nf {
-                    let (level, size_ratio) = m.scale[j];
-                    let g = gain * level;
-                    let group = self.scatter[j].group();
-                    // ζ ∝ S (eq 16): the scene's ζ scaled to this ball's size.
-                    let zeta_s = ap.zeta_s * size_ratio * c1;
-                    while t - lead < nf {
-                        let step = m.series.next_impact_with(&mut m.states[j]);
-                        let t0 = duration_s(zeta_s, ap.theta, step.amplitude.abs());
-                        m.trains[group].add(&m.shape, t, t0 * fs, (step.amplitude * g) as f32);
-                        m.impacts += 1;
-                        t += step.interval_s * fs;
-                    }
-                }
-                m.next_center[j] = t - nf;
-            }
-            // Balls over the impact budget wait, their clocks kept ahead.
-            for &b in &self.merged_balls[played..members] {
-                let t = &mut m.next_center[usize::from(b)];
-                *t = t.max(lead + nf) - nf;
-            }
-        } else {
-            // At rest: time passes, nothing rolls; the clocks stay ahead.
-            for &b in &self.merged_balls[..members] {
-                let t = &mut m.next_center[usize::from(b)];
-                *t = t.max(lead + nf) - nf;
-            }
-        }
-        let buf = &mut self.buf[..n];
-        let mut sounded = false;
-        for ((train, lp), cutoff) in m.trains.iter_mut().zip(&mut m.lps).zip(cutoff) {
-            train.read(buf);
-            if buf.iter().all(|&x| x == 0.0) && lp.is_silent() {
-                continue;
-            }
-            lp.set_cutoff(cutoff / c1, fs);
-            lp.process(buf);
-            for (f, x) in force.iter_mut().zip(buf.iter()) {
-                *f += *x;
-            }
-            sounded = true;
-        }
-        sounded
-    }
 }
 
 /// Ball `i`'s seed: the scene's, mixed so that crowd balls never share one with each other,
@@ -691,4 +541,73 @@ fn ball_seed(seed: u64, i: usize) -> u64 {
     z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
     z ^ (z >> 31)
+}
+
+impl CrowdControls {
+    /// The crowd controls in a parameter set.
+    pub fn from_params(p: &Params) -> Self {
+        Self {
+            count: p.get(ParamId::Crowd).round() as usize,
+            spread: p.get(ParamId::CrowdSpread),
+            detail: p.get(ParamId::CrowdDetail).round() as usize,
+        }
+    }
+}
+
+/// The scene ball's controls as the crowd follows them: the scene's, at the gesture's rolling
+/// speed (`rolling_factor`, `None` for a neutral gesture).
+pub fn scene_controls(params: &Params, rolling_factor: Option<f64>) -> SourceControls {
+    let mut sc = SourceControls::from_params(params);
+    if let Some(f) = rolling_factor {
+        sc.velocity = (sc.velocity * f).clamp(0.0, 1.0);
+    }
+    sc
+}
+
+impl Crowd {
+    /// The scene ball's controls the crowd follows (the snap of the first chunk takes its
+    /// level from them).
+    pub fn follow(&mut self, scene: SourceControls) {
+        self.scene = scene;
+    }
+}
+
+impl Stage for Crowd {
+    /// The chunk of force the crowd's balls add to, the parameters and the gesture's
+    /// rolling factor (`None` when neutral) the scene ball's controls come from
+    /// ([`scene_controls`]).
+    type Io<'a> = (&'a mut [f32], &'a Params, Option<f64>);
+
+    fn set_sample_rate(&mut self, sample_rate_hz: f64) {
+        Crowd::set_sample_rate(self, sample_rate_hz);
+    }
+
+    fn reset(&mut self, seed: u64) {
+        Crowd::reset(self, seed);
+    }
+
+    fn set_params(&mut self, params: &Params) {
+        self.set_controls(CrowdControls::from_params(params));
+        if params.seed() != self.seed {
+            Crowd::reset(self, params.seed());
+        }
+    }
+
+    fn snap(&mut self) {
+        self.snap_controls(self.scene);
+    }
+
+    fn is_idle(&self) -> bool {
+        Crowd::is_idle(self)
+    }
+
+    /// The crowd rolls with the scene's ball: its force joins at the scene ball's place;
+    /// nothing without a crowd once its last pulses have died.
+    fn process(&mut self, (force, params, rolling_factor): (&mut [f32], &Params, Option<f64>)) {
+        if self.count() > 1 || !Crowd::is_idle(self) {
+            let scene = scene_controls(params, rolling_factor);
+            self.scene = scene;
+            self.add_chunk(force, scene);
+        }
+    }
 }

@@ -47,6 +47,7 @@ use crate::physics::mapping::{
 use crate::physics::{PhysicsEngine, MAX_OVERSAMPLE};
 use crate::smooth::Smoother;
 use crate::source::chain::{ImpactLog, ImpactRecord, Source};
+use crate::stage::Stage;
 
 /// Averaging time of the level match between the engines (s): long enough that the gain
 /// does not follow single impacts or the AM, short enough to follow a gesture.
@@ -96,6 +97,8 @@ impl LevelMatch {
 /// `new` allocates the physics engine; nothing else does.
 #[derive(Clone, Debug)]
 pub struct EngineMix {
+    /// The seed in force (a change restarts the physics engine's surface).
+    seed: u64,
     fs: f64,
     /// The physics engine (runs only while selected or fading).
     physics: PhysicsEngine,
@@ -142,6 +145,7 @@ impl EngineMix {
     pub fn new(fs: f64, params: &Params) -> Self {
         let pc = PhysicsControls::from_params(params);
         Self {
+            seed: params.seed(),
             fs,
             physics: PhysicsEngine::new(&pc.settings(fs, auto_oversample(fs))),
             ctrl: [
@@ -413,6 +417,40 @@ impl EngineMix {
             }
             self.mix = m;
         }
+    }
+}
+
+impl Stage for EngineMix {
+    /// The scene ball's source (the signal model, and the physics' level reference) and the
+    /// chunk of force written.
+    type Io<'a> = (&'a mut Source, &'a mut [f32; CHUNK]);
+
+    fn set_sample_rate(&mut self, sample_rate_hz: f64) {
+        EngineMix::set_sample_rate(self, crate::block::sanitize_sample_rate(sample_rate_hz));
+    }
+
+    fn reset(&mut self, seed: u64) {
+        self.seed = seed;
+        EngineMix::reset(self);
+    }
+
+    fn set_params(&mut self, params: &Params) {
+        let seed_changed = params.seed() != self.seed;
+        self.seed = params.seed();
+        EngineMix::set_params(self, params, seed_changed);
+    }
+
+    fn snap(&mut self) {
+        EngineMix::snap(self);
+    }
+
+    /// Only the signal model runs and no crossfade is under way.
+    fn is_idle(&self) -> bool {
+        self.signal_only()
+    }
+
+    fn process(&mut self, (source, force): (&mut Source, &mut [f32; CHUNK])) {
+        self.force_chunk(source, force);
     }
 }
 

@@ -53,6 +53,8 @@ use crate::source::pulse::{duration_s, PulseEval, PulseShape, PulseTrain, T0_MAX
 
 pub mod hunt_crossley;
 
+use crate::source::chain::Source;
+use crate::stage::Stage;
 use hunt_crossley::{hc_damping_for, HcBall};
 
 /// Gravity (m/s²).
@@ -185,7 +187,7 @@ pub struct PulseScale {
 
 /// The pulse law of `source` for a ball of size `size` (its action, contact and level in
 /// force), for a gesture's impacts.
-pub fn pulse_scale(source: &crate::source::chain::Source, size: f64) -> PulseScale {
+pub fn pulse_scale(source: &Source, size: f64) -> PulseScale {
     let ap = source.action();
     let c = source.contact_scale();
     PulseScale {
@@ -645,20 +647,41 @@ fn crossing_sample(a: f64, b: f64, n: f64, d: f64) -> f64 {
     s.clamp(0.0, n)
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
+impl Stage for Gesture {
+    /// The chunk of force the gesture's impacts join, the scene ball's source (how an
+    /// impact becomes a pulse, [`pulse_scale`]), the ball's size and its rolling speed at
+    /// the chunk's start and end.
+    type Io<'a> = (&'a mut [f32], &'a Source, f64, (f64, f64));
 
-    #[test]
-    fn bounce_law_and_spin_rate() {
-        assert!((first_impact_s(0.3) - 0.247_3).abs() < 1e-3);
-        assert!((impact_speed(0.3) - 2.426).abs() < 1e-3);
-        assert!(spin_rate_hz(10.0, 0.0, 4.0) == 10.0);
-        assert!(spin_rate_hz(10.0, 3.0, 4.0) > spin_rate_hz(10.0, 2.0, 4.0));
-        let s = crossing_sample(0.001, 0.001, 64.0, 0.02);
-        assert!((s - 20.0).abs() < 1e-9);
-        // From rest: d = k·s², k = (b − a)/2n.
-        let s = crossing_sample(0.0, 0.002, 64.0, 0.032);
-        assert!((s - 2048f64.sqrt()).abs() < 1e-9);
+    fn set_sample_rate(&mut self, sample_rate_hz: f64) {
+        Gesture::set_sample_rate(self, sample_rate_hz);
+    }
+
+    fn reset(&mut self, seed: u64) {
+        Gesture::reset(self, seed);
+    }
+
+    fn set_params(&mut self, params: &Params) {
+        self.set_controls(GestureControls::from_params(params));
+    }
+
+    /// The gesture keeps its own schedule: nothing glides.
+    fn snap(&mut self) {}
+
+    fn is_idle(&self) -> bool {
+        Gesture::is_idle(self)
+    }
+
+    /// A neutral gesture only lets time pass (the voice is then exactly what it was
+    /// without gestures).
+    fn process(&mut self, (force, source, size, speed): (&mut [f32], &Source, f64, (f64, f64))) {
+        if self.is_neutral() {
+            self.skip_chunk(force.len());
+        } else {
+            Gesture::process(self, force, pulse_scale(source, size), speed);
+        }
     }
 }
+
+#[cfg(test)]
+mod tests;

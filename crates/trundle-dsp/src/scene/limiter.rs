@@ -23,7 +23,9 @@
 //! The meter ([`Limiter::gain_reduction_db`], [`Limiter::touched`]) lets an editor show when it
 //! acts.
 
+use crate::params::Params;
 use crate::params::{ParamEnum, ParamId};
+use crate::stage::Stage;
 
 /// Whether the output safety limiter acts (the `limiter` parameter).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -376,6 +378,34 @@ fn flush(x: f32) -> f32 {
         0.0
     } else {
         x
+    }
+}
+
+impl Stage for Limiter {
+    /// The left and right channels, limited in place (delayed by the look-ahead).
+    type Io<'a> = (&'a mut [f32], &'a mut [f32]);
+
+    fn set_sample_rate(&mut self, sample_rate_hz: f64) {
+        Limiter::set_sample_rate(self, sample_rate_hz);
+    }
+
+    fn reset(&mut self, _seed: u64) {
+        Limiter::reset(self);
+    }
+
+    fn set_params(&mut self, params: &Params) {
+        self.set_enabled(params.limiting() == Limiting::On);
+    }
+
+    fn snap(&mut self) {}
+
+    /// At rest: it has not acted for a look-ahead and passes the delayed signal untouched.
+    fn is_idle(&self) -> bool {
+        self.calm > self.len as u64 && self.box_sum == self.len as f64
+    }
+
+    fn process(&mut self, (left, right): (&mut [f32], &mut [f32])) {
+        self.process_stereo(left, right);
     }
 }
 

@@ -11,6 +11,7 @@
 //! | [`stop`] | how a ball told to stop comes to rest (the one stop law) |
 //! | [`space`] | the ball's path and the room around the object |
 //! | [`engine_mix`] | the engine choice, the physics controls' smoothing, the crossfade |
+//! | [`twins`] | the object's twins the physics engine's level match plays |
 //! | [`limiter`] | the look-ahead, stereo-linked safety limiter |
 //! | [`events`] | notes and automation split the block where they fall |
 //! | [`impulse`] | the object struck once (an offline render) |
@@ -27,4 +28,5 @@ pub mod limiter;
 pub mod preset;
 pub mod space;
 pub mod stop;
+pub mod twins;
 pub mod voice;

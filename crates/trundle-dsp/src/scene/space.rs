@@ -37,8 +37,10 @@
 //! ([`Trajectory::speed_factor`], [`Space::set_path_scale`]). The voice sets the speed
 //! (the sound follows it) and the bowl's radius; the stereo image follows the ball.
 
+use crate::params::Params;
 use crate::params::{ParamEnum, ParamId};
 use crate::smooth::Smoother;
+use crate::stage::Stage;
 
 /// Reflection coefficient of the object's edges.
 pub const EDGE_REFLECTION: f64 = 0.8;
@@ -466,6 +468,49 @@ impl Space {
         let c2 = -(f + 1.0) * f * (f - 2.0) / 2.0;
         let c3 = (f + 1.0) * f * (f - 1.0) / 6.0;
         c0 * ym1 + c1 * y0 + c2 * y1 + c3 * y2
+    }
+}
+
+impl SpaceControls {
+    /// The space controls in a parameter set.
+    pub fn from_params(p: &Params) -> Self {
+        Self {
+            amount: p.get(ParamId::Comb),
+            position: (p.get(ParamId::PositionX), p.get(ParamId::PositionY)),
+            listen: (p.get(ParamId::ListenX), p.get(ParamId::ListenY)),
+            trajectory: p.trajectory(),
+            size_m: p.get(ParamId::ObjectSize),
+            velocity: p.get(ParamId::Velocity),
+        }
+    }
+}
+
+impl Stage for Space {
+    /// The chunk of force, filtered in place.
+    type Io<'a> = &'a mut [f32];
+
+    fn set_sample_rate(&mut self, sample_rate_hz: f64) {
+        Space::set_sample_rate(self, sample_rate_hz);
+    }
+
+    fn reset(&mut self, _seed: u64) {
+        Space::reset(self);
+    }
+
+    fn set_params(&mut self, params: &Params) {
+        self.set_controls(SpaceControls::from_params(params));
+    }
+
+    fn snap(&mut self) {
+        self.snap_controls();
+    }
+
+    fn is_idle(&self) -> bool {
+        Space::is_idle(self)
+    }
+
+    fn process(&mut self, force: &mut [f32]) {
+        Space::process(self, force);
     }
 }
 

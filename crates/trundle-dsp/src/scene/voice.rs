@@ -27,19 +27,100 @@ use crate::object::fitted::LoadedObject;
 use crate::object::resonator::{Object, ObjectControls};
 use crate::params::{ParamId, Params};
 use crate::physics::PhysicsEngine;
-use crate::scene::balls::{BallId, BallPool, BallTarget, Expression};
-use crate::scene::crowd::{Crowd, CrowdControls, MAX_DETAIL};
+use crate::scene::balls::{level_for_balls, BallId, BallPool, BallTarget, Expression};
+use crate::scene::crowd::{scene_controls, Crowd, CrowdControls, MAX_DETAIL};
 use crate::scene::engine_mix::EngineMix;
-use crate::scene::gesture::{Gesture, GestureControls, PulseScale};
+use crate::scene::gesture::{Gesture, GestureControls};
 use crate::scene::space::{Space, SpaceControls};
+use crate::scene::twins::Twins;
 use crate::smooth::Smoother;
 use crate::source::chain::{ImpactRecord, Source, SourceControls};
 use crate::source::dcblock::DcBlock;
+use crate::stage::Stage;
 use std::sync::Arc;
 
 /// Gain applied to the raw force when the output is the force (its peaks are then about
 /// −6 dBFS at the default settings).
 pub const FORCE_LEVEL: f32 = 1.0;
+
+/// The voice's stages ([`Stage`]), in the order a chunk flows through them, each with how
+/// it is built from the parameters. Building, re-rating, resetting, snapping, giving
+/// controls and the idle test fan out over this one list: a new stage is its own file and
+/// one line here (and one call where it processes in [`Voice::render_chunk`]).
+macro_rules! stages {
+    ($($(#[doc = $doc:literal])* $name:ident: $ty:ty = $build:expr,)*) => {
+        /// The voice's stages (see `stages!`).
+        #[derive(Clone, Debug)]
+        struct Stages {
+            $($(#[doc = $doc])* $name: $ty,)*
+        }
+
+        impl Stages {
+            /// Every stage for `params` at `fs` (sanitized), seeded with `seed`. Allocates.
+            fn new(fs: f64, params: &Params, seed: u64) -> Self {
+                Self {
+                    $($name: {
+                        let build: fn(f64, &Params, u64) -> $ty = $build;
+                        build(fs, params, seed)
+                    },)*
+                }
+            }
+
+            fn set_sample_rate(&mut self, fs: f64) {
+                $(Stage::set_sample_rate(&mut self.$name, fs);)*
+            }
+
+            fn reset(&mut self, seed: u64) {
+                $(Stage::reset(&mut self.$name, seed);)*
+            }
+
+            fn set_params(&mut self, params: &Params) {
+                $(Stage::set_params(&mut self.$name, params);)*
+            }
+
+            fn snap(&mut self) {
+                $(Stage::snap(&mut self.$name);)*
+            }
+
+            fn is_idle(&self) -> bool {
+                true $(&& Stage::is_idle(&self.$name))*
+            }
+        }
+    };
+}
+
+stages! {
+    /// The signal model's force: series → pulses → AM → low-pass.
+    source: Source = |fs, p, seed| Source::new(fs, SourceControls::from_params(p), seed),
+    /// The engine choice: the physics engine, its smoothing, the crossfade.
+    engines: EngineMix = |fs, p, _| EngineMix::new(fs, p),
+    /// The gesture: drop, spin, seams, paths with gravity ([`crate::scene::gesture`]).
+    gesture: Gesture = |fs, p, seed| Gesture::new(fs, GestureControls::from_params(p), seed),
+    /// The ball's place on the object and the position comb ([`crate::scene::space`]).
+    space: Space = |fs, p, _| Space::new(fs, SpaceControls::from_params(p)),
+    /// Extra balls started like notes ([`crate::scene::balls`]).
+    balls: BallPool = |fs, p, _| {
+        let mut b = BallPool::new(fs);
+        b.set_gesture(GestureControls::from_params(p));
+        b
+    },
+    /// The scene's crowd: balls 1…N−1 rolling with the scene's ball ([`crate::scene::crowd`]).
+    crowd: Crowd = |fs, p, seed| {
+        let mut c = Crowd::new(fs, MAX_DETAIL, seed);
+        c.set_controls(CrowdControls::from_params(p));
+        c
+    },
+    /// The force's coupling into the object ([`crate::source::dcblock`]).
+    dc: DcBlock = |fs, _, _| DcBlock::new(fs),
+    /// The object ([`crate::object::resonator`]).
+    object: Object = |fs, p, _| {
+        let mut o = Object::new(fs, ObjectControls::from_params(p));
+        Stage::set_params(&mut o, p);
+        o
+    },
+    /// The object's twins, for the physics engine's level match ([`crate::scene::twins`]).
+    twins: Twins = |fs, p, _| Twins::new(fs, p),
+}
 
 /// A complete rolling voice.
 ///
@@ -49,17 +130,8 @@ pub const FORCE_LEVEL: f32 = 1.0;
 pub struct Voice {
     fs: f64,
     params: Params,
-    source: Source,
-    space: Space,
-    dc: DcBlock,
-    object: Object,
-    /// The object's twins, played by the signal model's force and by the unscaled physics
-    /// force while the physics engine runs (the level match of [`EngineMix`]), and their DC
-    /// blockers.
-    twins: [Object; 2],
-    twin_dc: [DcBlock; 2],
-    twin_in: [f32; CHUNK],
-    twin_out: [[f32; CHUNK]; 2],
+    /// The stages, in chunk order.
+    chain: Stages,
     gain: Smoother,
     /// 0 = object output, 1 = force output (crossfaded over the smoothing time).
     force_mix: Smoother,
@@ -74,66 +146,17 @@ pub struct Voice {
     sound: [f32; CHUNK],
     side: [f32; CHUNK],
     coupled: [f32; CHUNK],
-    /// The engine choice: the physics engine, its smoothing, the crossfade.
-    engines: EngineMix,
-    /// Extra balls started like notes (see [`crate::scene::balls`]).
-    balls: BallPool,
     /// The level law's gain on the summed force ([`crate::scene::balls::level_for_balls`]).
     ball_level: Smoother,
-    /// The scene's crowd: balls 1…N−1 rolling with the scene's ball ([`crate::scene::crowd`]).
-    crowd: Crowd,
-    /// The gesture: drop, spin, seams, paths with gravity ([`crate::scene::gesture`]).
-    gesture: Gesture,
     /// The last chunk's force and DC-blocked force were exactly zero (the DC blocker's
     /// state is then zero too): with a zero force it may be skipped.
     quiet: bool,
 }
 
-fn source_controls(p: &Params) -> SourceControls {
-    SourceControls {
-        size: p.get(ParamId::Size),
-        velocity: p.get(ParamId::Velocity),
-        roughness: p.get(ParamId::Roughness),
-        asymmetry: p.get(ParamId::Asymmetry),
-        sharpness: p.get(ParamId::Sharpness),
-        action_x: p.get(ParamId::ActionX),
-        action_y: p.get(ParamId::ActionY),
-        asymmetry_law: p.asymmetry_law(),
-        contact_scale: p.contact_scale(),
-    }
-}
-
-fn space_controls(p: &Params) -> SpaceControls {
-    SpaceControls {
-        amount: p.get(ParamId::Comb),
-        position: (p.get(ParamId::PositionX), p.get(ParamId::PositionY)),
-        listen: (p.get(ParamId::ListenX), p.get(ParamId::ListenY)),
-        trajectory: p.trajectory(),
-        size_m: p.get(ParamId::ObjectSize),
-        velocity: p.get(ParamId::Velocity),
-    }
-}
-
-fn crowd_controls(p: &Params) -> CrowdControls {
-    CrowdControls {
-        count: p.get(ParamId::Crowd).round() as usize,
-        spread: p.get(ParamId::CrowdSpread),
-        detail: p.get(ParamId::CrowdDetail).round() as usize,
-    }
-}
-
-/// The object controls of a parameter set (as the voice maps them).
+/// The object controls of a parameter set (as the voice maps them,
+/// [`ObjectControls::from_params`]).
 pub fn object_controls(p: &Params) -> ObjectControls {
-    ObjectControls {
-        material_x: p.get(ParamId::MaterialX),
-        material_y: p.get(ParamId::MaterialY),
-        size_m: p.get(ParamId::ObjectSize),
-        shape: p.shape(),
-        modes: p.modes(),
-        decay: p.get(ParamId::Decay),
-        listen: (p.get(ParamId::ListenX), p.get(ParamId::ListenY)),
-        width: p.width(),
-    }
+    ObjectControls::from_params(p)
 }
 
 impl Voice {
@@ -148,17 +171,7 @@ impl Voice {
         let mut v = Self {
             fs,
             params: *params,
-            source: Source::new(fs, source_controls(params), seed),
-            space: Space::new(fs, space_controls(params)),
-            dc: DcBlock::new(fs),
-            object: Object::new(fs, object_controls(params)),
-            twins: [
-                Object::new(fs, object_controls(params)),
-                Object::new(fs, object_controls(params)),
-            ],
-            twin_dc: [DcBlock::new(fs), DcBlock::new(fs)],
-            twin_in: [0.0; CHUNK],
-            twin_out: [[0.0; CHUNK]; 2],
+            chain: Stages::new(fs, params, seed),
             gain: Smoother::new(params.gain_linear()),
             force_mix: Smoother::new(if params.force_only() { 1.0 } else { 0.0 }),
             seed,
@@ -168,21 +181,9 @@ impl Voice {
             sound: [0.0; CHUNK],
             side: [0.0; CHUNK],
             coupled: [0.0; CHUNK],
-            engines: EngineMix::new(fs, params),
-            balls: BallPool::new(fs),
             ball_level: Smoother::new(1.0),
-            crowd: Crowd::new(fs, MAX_DETAIL, seed),
-            gesture: Gesture::new(fs, GestureControls::from_params(params), seed),
             quiet: false,
         };
-        v.object.set_quality(params.quality());
-        v.object.set_controls(object_controls(params));
-        for t in &mut v.twins {
-            t.set_quality(params.quality());
-            t.set_controls(object_controls(params));
-        }
-        v.balls.set_gesture(GestureControls::from_params(params));
-        v.crowd.set_controls(crowd_controls(params));
         v.reset();
         v
     }
@@ -197,44 +198,39 @@ impl Voice {
         &mut self,
         object: Option<Arc<LoadedObject>>,
     ) -> Option<Arc<LoadedObject>> {
-        for t in &mut self.twins {
-            // The twins' previous references are never the last: `self.object` holds one.
-            drop(t.set_loaded(object.clone()));
-        }
-        self.object.set_loaded(object)
+        self.chain.twins.set_loaded(object.clone());
+        self.chain.object.set_loaded(object)
     }
 
     /// The fitted object the voice plays, if any.
     pub fn loaded_object(&self) -> Option<&Arc<LoadedObject>> {
-        self.object.loaded()
+        self.chain.object.loaded()
     }
 
     /// Choose the physics engine's RK4 substeps per output sample, 1..=8 (the accuracy knob
     /// of [`crate::physics`]); 0 = automatic (internal rate ≥ 96 kHz, see
     /// [`crate::physics::mapping::auto_oversample`]). Real-time safe; applies from the next chunk.
     pub fn set_physics_oversample(&mut self, oversample: usize) {
-        self.engines.set_oversample(oversample);
+        self.chain.engines.set_oversample(oversample);
     }
 
     /// Switch the object's high band on (the default) or off: for measuring what it costs
     /// and what it adds (`trundle bench`, `tests/full_band.rs`). Real-time safe.
     pub fn set_high_band(&mut self, on: bool) {
-        self.object.set_high_band(on);
-        for t in &mut self.twins {
-            t.set_high_band(on);
-        }
+        self.chain.object.set_high_band(on);
+        self.chain.twins.set_high_band(on);
     }
 
     /// Switch the physics engine's level match to the signal model on (the default) or off
     /// ([`crate::scene::engine_mix`]): for measuring the crossfade and the physics force itself.
     /// Real-time safe.
     pub fn set_engine_level_match(&mut self, on: bool) {
-        self.engines.set_level_match(on);
+        self.chain.engines.set_level_match(on);
     }
 
     /// The physics engine (health report, settings in force), for inspection.
     pub fn physics(&self) -> &PhysicsEngine {
-        self.engines.physics()
+        self.chain.engines.physics()
     }
 
     /// The sample rate in Hz (after sanitizing).
@@ -245,40 +241,15 @@ impl Voice {
     /// Change the sample rate (may allocate: call off the audio thread) and reset.
     pub fn set_sample_rate(&mut self, sample_rate_hz: f64) {
         self.fs = crate::block::sanitize_sample_rate(sample_rate_hz);
-        self.source.set_sample_rate(self.fs);
-        self.space.set_sample_rate(self.fs);
-        self.dc.set_sample_rate(self.fs);
-        self.balls.set_sample_rate(self.fs);
-        self.crowd.set_sample_rate(self.fs);
-        self.balls
-            .set_gesture(GestureControls::from_params(&self.params));
-        self.object.set_sample_rate(self.fs);
-        for (t, d) in self.twins.iter_mut().zip(&mut self.twin_dc) {
-            t.set_sample_rate(self.fs);
-            d.set_sample_rate(self.fs);
-        }
-        self.engines.set_sample_rate(self.fs);
-        self.gesture.set_sample_rate(self.fs);
+        self.chain.set_sample_rate(self.fs);
         self.reset();
     }
 
     /// Back to the state after `new` with the current parameters: reseeded, silent, time 0.
     /// Real-time safe.
     pub fn reset(&mut self) {
-        self.source.set_seed(self.seed);
-        self.source.reset();
-        self.space.reset();
-        self.dc.reset();
-        self.balls.reset(self.seed);
-        self.crowd.reset(self.seed);
+        self.chain.reset(self.seed);
         self.ball_level.snap(1.0);
-        self.object.reset();
-        for (t, d) in self.twins.iter_mut().zip(&mut self.twin_dc) {
-            t.reset();
-            d.reset();
-        }
-        self.engines.reset();
-        self.gesture.reset(self.seed);
         self.gain.snap_to_target();
         self.force_mix.snap_to_target();
         self.started = false;
@@ -296,77 +267,58 @@ impl Voice {
     /// Real-time safe.
     pub fn set_params(&mut self, params: &Params) {
         self.params = *params;
-        self.source.set_controls(source_controls(params));
-        self.space.set_controls(space_controls(params));
-        self.object.set_quality(params.quality());
-        self.object.set_controls(object_controls(params));
-        for t in &mut self.twins {
-            t.set_quality(params.quality());
-            t.set_controls(object_controls(params));
-        }
+        self.chain.set_params(params);
         self.gain.set_target(params.gain_linear());
         self.force_mix
             .set_target(if params.force_only() { 1.0 } else { 0.0 });
-        let seed = params.seed();
-        let seed_changed = seed != self.seed;
-        if seed_changed {
-            self.seed = seed;
-            self.source.set_seed(seed);
-        }
-        self.engines.set_params(params, seed_changed);
-        self.crowd.set_controls(crowd_controls(params));
-        if seed_changed {
-            self.crowd.reset(seed);
-        }
-        self.gesture
-            .set_controls(GestureControls::from_params(params));
-        self.balls.set_gesture(GestureControls::from_params(params));
+        self.seed = params.seed();
     }
 
     /// Start the gesture again now (a drop falls, a spin begins). Real-time safe.
     pub fn restart_gesture(&mut self) {
-        self.gesture.restart();
+        self.chain.gesture.restart();
     }
 
     /// The gesture stage, for inspection.
     pub fn gesture(&self) -> &Gesture {
-        &self.gesture
+        &self.chain.gesture
     }
 
     /// Hand the gesture's schedule to the source and the position stage: the rolling speed
     /// V × the gesture's factor, the bowl's radius. Does nothing when the gesture is
     /// neutral (the voice is then exactly what it was without gestures).
     fn apply_gesture(&mut self) {
-        if self.gesture.is_neutral() {
+        let c = &mut self.chain;
+        if c.gesture.is_neutral() {
             return;
         }
-        let f = self.gesture.rolling_factor();
-        let mut sc = source_controls(&self.params);
+        let f = c.gesture.rolling_factor();
+        let mut sc = SourceControls::from_params(&self.params);
         sc.velocity = (sc.velocity * f).clamp(0.0, 1.0);
-        self.source.set_controls(sc);
-        let mut pc = space_controls(&self.params);
+        c.source.set_controls(sc);
+        let mut pc = SpaceControls::from_params(&self.params);
         pc.velocity *= f;
-        self.space.set_controls(pc);
-        self.space.set_path_scale(self.gesture.path_scale());
+        c.space.set_controls(pc);
+        c.space.set_path_scale(c.gesture.path_scale());
         // The physics engine's ball follows the same schedule (its rolling speed; the
         // bounces themselves are the gesture's pulses in either engine).
         let mut q = self.params;
         q.set_clamped(ParamId::Velocity, sc.velocity);
-        self.engines.set_params(&q, false);
+        c.engines.set_params(&q, false);
     }
 
     /// Record impacts for [`drain_impacts`](Self::drain_impacts).
     pub fn set_impact_log(&mut self, enabled: bool) {
-        self.source.set_impact_log(enabled);
-        self.engines.set_impact_log(enabled);
-        self.gesture.set_impact_log(enabled);
+        self.chain.source.set_impact_log(enabled);
+        self.chain.engines.set_impact_log(enabled);
+        self.chain.gesture.set_impact_log(enabled);
     }
 
     /// Hand the impacts generated since the last call to `f` (oldest first); returns how
     /// many were dropped because the record was full (drain at least every ~30 000 impacts).
     pub fn drain_impacts(&mut self, mut f: impl FnMut(ImpactRecord)) -> u64 {
         // The gesture's impacts (bounces, spin contacts, seams) are merged in time order.
-        let log = self.gesture.impact_log();
+        let log = self.chain.gesture.impact_log();
         let mut merged = |r: ImpactRecord| {
             while let Some(g) = log.peek().filter(|g| g.time_s <= r.time_s) {
                 f(g);
@@ -374,12 +326,12 @@ impl Voice {
             }
             f(r);
         };
-        let dropped = if self.engines.physics_selected() {
+        let dropped = if self.chain.engines.physics_selected() {
             // The signal model runs beside the physics only as its level reference.
-            self.source.drain_impacts(|_| {});
-            self.engines.drain_impacts(&mut merged)
+            self.chain.source.drain_impacts(|_| {});
+            self.chain.engines.drain_impacts(&mut merged)
         } else {
-            self.source.drain_impacts(&mut merged) + self.engines.drain_impacts(|_| {})
+            self.chain.source.drain_impacts(&mut merged) + self.chain.engines.drain_impacts(|_| {})
         };
         while let Some(g) = log.pop() {
             f(g);
@@ -390,73 +342,79 @@ impl Voice {
     /// Start an extra ball for `note` with note velocity `velocity` (0…1): pitch sets its
     /// size, velocity its speed (mapping in [`crate::scene::balls`]). Real-time safe.
     pub fn note_on(&mut self, note: u8, velocity: f64) {
-        let (sc, pc) = (source_controls(&self.params), space_controls(&self.params));
-        self.balls.note_on(note, velocity, sc, pc);
+        let (sc, pc) = (
+            SourceControls::from_params(&self.params),
+            SpaceControls::from_params(&self.params),
+        );
+        self.chain.balls.note_on(note, velocity, sc, pc);
     }
 
     /// Stop the extra ball(s) of `note`: they roll to a halt. Real-time safe.
     pub fn note_off(&mut self, note: u8) {
-        self.balls.note_off(note);
+        self.chain.balls.note_off(note);
     }
 
     /// Start an extra ball named as the host names a note (voice id, channel, key), so that
     /// per-ball gestures can address it ([`crate::scene::balls`], "Expression per ball").
     /// Real-time safe.
     pub fn ball_on(&mut self, id: BallId, velocity: f64) {
-        let (sc, pc) = (source_controls(&self.params), space_controls(&self.params));
-        self.balls.ball_on(id, velocity, sc, pc);
+        let (sc, pc) = (
+            SourceControls::from_params(&self.params),
+            SpaceControls::from_params(&self.params),
+        );
+        self.chain.balls.ball_on(id, velocity, sc, pc);
     }
 
     /// Stop the extra ball(s) named by `target`: they roll to a halt. Real-time safe.
     pub fn ball_off(&mut self, target: BallTarget) {
-        self.balls.ball_off(target);
+        self.chain.balls.ball_off(target);
     }
 
     /// A gesture for the ball(s) named by `target`: pressure, timbre, tuning, volume, pan
     /// or a poly-modulation offset ([`crate::scene::balls`]). Real-time safe.
     pub fn express(&mut self, target: BallTarget, expression: Expression) {
-        self.balls.express(target, expression);
+        self.chain.balls.express(target, expression);
     }
 
     /// Hand every extra ball that ended since the last call (rolled to rest, stolen, or
     /// stopped by a reset) to `f`: a host is told so it can free its note (CLAP note end).
     pub fn drain_ended_balls(&mut self, f: impl FnMut(BallId)) {
-        self.balls.drain_ended(f);
+        self.chain.balls.drain_ended(f);
     }
 
     /// Stop every extra ball. Real-time safe.
     pub fn all_notes_off(&mut self) {
-        self.balls.all_notes_off();
+        self.chain.balls.all_notes_off();
     }
 
     /// Number of extra balls sounding.
     pub fn active_balls(&self) -> usize {
-        self.balls.active()
+        self.chain.balls.active()
     }
 
     /// The ball's current position on the object (normalised, see [`crate::scene::space`]).
     pub fn ball_position(&self) -> (f64, f64) {
-        self.space.ball()
+        self.chain.space.ball()
     }
 
     /// The position stage, for inspection.
     pub fn space(&self) -> &Space {
-        &self.space
+        &self.chain.space
     }
 
     /// The source (action parameters in force), for inspection.
     pub fn source(&self) -> &Source {
-        &self.source
+        &self.chain.source
     }
 
     /// The object (modes, active count) for inspection.
     pub fn object(&self) -> &Object {
-        &self.object
+        &self.chain.object
     }
 
     /// Mutable access to the source (pulse evaluation mode).
     pub fn source_mut(&mut self) -> &mut Source {
-        &mut self.source
+        &mut self.chain.source
     }
 
     /// Render `out.len()` samples of the mono mix (the mid, (L + R)/2), overwriting `out`.
@@ -507,53 +465,33 @@ impl Voice {
     fn start(&mut self) {
         if !self.started {
             self.apply_gesture();
-            self.source.snap_controls();
-            self.crowd.snap_controls(self.crowd_scene());
+            let scene = scene_controls(&self.params, self.rolling_factor());
+            self.chain.crowd.follow(scene);
+            self.chain.snap();
             if self.params.velocity() > 0.0 {
                 // A crowd starts at its level (`balls`' law), not gliding down from one ball's.
-                let rolling = self.balls.active() + self.crowd.count();
-                self.ball_level
-                    .snap(crate::scene::balls::level_for_balls(rolling));
-            }
-            self.space.snap_controls();
-            self.object.snap_controls();
-            for t in &mut self.twins {
-                t.snap_controls();
+                let rolling = self.chain.balls.active() + self.chain.crowd.count();
+                self.ball_level.snap(level_for_balls(rolling));
             }
             self.gain.snap_to_target();
             self.force_mix.snap_to_target();
-            self.engines.snap();
             self.started = true;
         }
     }
 
-    /// The scene's controls as the crowd follows them: the scene ball's, at the gesture's
-    /// rolling speed.
-    fn crowd_scene(&self) -> SourceControls {
-        let mut sc = source_controls(&self.params);
-        if !self.gesture.is_neutral() {
-            sc.velocity = (sc.velocity * self.gesture.rolling_factor()).clamp(0.0, 1.0);
-        }
-        sc
+    /// The gesture's factor on the rolling speed, `None` when it is neutral.
+    fn rolling_factor(&self) -> Option<f64> {
+        let g = &self.chain.gesture;
+        (!g.is_neutral()).then(|| g.rolling_factor())
     }
 
-    /// How the gesture's impacts become pulses: the source's contact and level in force.
-    fn pulse_scale(&self) -> PulseScale {
-        crate::scene::gesture::pulse_scale(&self.source, self.params.size())
-    }
-
+    /// One chunk through the chain of stages: the force (engine, gesture, space, extra
+    /// balls, crowd, the level law), then the object, then the output.
     fn render_chunk(&mut self) {
-        let fs = self.fs;
-        let signal_only = self.engines.signal_only();
+        let signal_only = self.chain.engines.signal_only();
         self.apply_gesture();
         if self.quiet
-            && signal_only
-            && self.gesture.is_idle()
-            && self.balls.active() == 0
-            && self.crowd.is_idle()
-            && self.source.is_idle()
-            && self.space.is_idle()
-            && self.object.is_idle()
+            && self.chain.is_idle()
             && !self.gain.is_moving()
             && !self.force_mix.is_moving()
         {
@@ -561,61 +499,38 @@ impl Voice {
             // rings, nothing glides. Only time moves on; the output is exact zeros — the same
             // samples and the same state as the full path (`force` and `coupled` are still
             // all zero from the last chunk: that is what `quiet` records).
-            self.source.skip_chunk(CHUNK);
-            self.engines.skip_chunk();
-            self.gesture.skip_chunk(CHUNK);
+            self.chain.source.skip_chunk(CHUNK);
+            self.chain.engines.skip_chunk();
+            self.chain.gesture.skip_chunk(CHUNK);
             self.sound.fill(0.0);
             self.side.fill(0.0);
             return;
         }
-        let v_before = self.source.velocity();
-        self.engines.force_chunk(&mut self.source, &mut self.force);
-        if !self.gesture.is_neutral() {
-            // The gesture's impacts join the rolling force before the position stage.
-            let k = self.pulse_scale();
-            let speed = (v_before, self.source.velocity());
-            self.gesture.process(&mut self.force, k, speed);
-        } else {
-            self.gesture.skip_chunk(CHUNK);
-        }
-        self.space.process(&mut self.force);
-        if self.balls.active() > 0 {
-            // Extra balls roll on the same object: their forces add before it.
-            let (sc, pc) = (source_controls(&self.params), space_controls(&self.params));
-            self.balls.add_chunk(&mut self.force, sc, pc);
-        }
-        if self.crowd.count() > 1 || !self.crowd.is_idle() {
-            // The crowd rolls with the scene's ball (`crowd`): its force joins here, at the
-            // scene ball's place.
-            let sc = self.crowd_scene();
-            self.crowd.add_chunk(&mut self.force, sc);
-        }
-        // The level law for summed balls (`balls`): N rolling balls at 1/√N each (the
-        // scene's ball counts with its crowd).
-        let scene_balls = if self.params.velocity() > 0.0 {
-            self.crowd.count()
-        } else {
-            0
-        };
-        let rolling = self.balls.active() + scene_balls;
-        self.ball_level
-            .set_target(crate::scene::balls::level_for_balls(rolling));
-        if self.ball_level.is_moving() || self.ball_level.value() != 1.0 {
-            let (a, b) = self.ball_level.advance(CHUNK, fs);
-            let step = (b - a) / CHUNK as f64;
-            for (i, f) in self.force.iter_mut().enumerate() {
-                *f *= (a + step * (i + 1) as f64) as f32;
-            }
-        }
+        let c = &mut self.chain;
+        let v_before = c.source.velocity();
+        Stage::process(&mut c.engines, (&mut c.source, &mut self.force));
+        let speed = (v_before, c.source.velocity());
+        // The gesture's impacts join the rolling force before the position stage.
+        let size = self.params.size();
+        Stage::process(&mut c.gesture, (&mut self.force, &c.source, size, speed));
+        Stage::process(&mut c.space, &mut self.force);
+        Stage::process(&mut c.balls, (&mut self.force, &self.params));
+        let rolling_factor = (!c.gesture.is_neutral()).then(|| c.gesture.rolling_factor());
+        Stage::process(
+            &mut c.crowd,
+            (&mut self.force, &self.params, rolling_factor),
+        );
+        self.apply_ball_level();
+        let c = &mut self.chain;
         let silent_force = self.force.iter().all(|&f| f == 0.0);
         if self.quiet
             && silent_force
             && signal_only
-            && self.source.at_rest()
-            && self.gesture.is_idle()
-            && self.balls.active() == 0
-            && self.crowd.is_idle()
-            && self.object.is_silent()
+            && c.source.at_rest()
+            && c.gesture.is_idle()
+            && c.balls.active() == 0
+            && c.crowd.is_idle()
+            && c.object.is_silent()
         {
             // Silence skip (docs/MODEL.md "Speed and accuracy"): the ball at rest on the signal
             // engine, no extra ball, the DC blocker settled (its input and output were zero
@@ -623,30 +538,53 @@ impl Voice {
             // object only advances its control smoothers (it touches no mode for a zero
             // input, see `object`), and the output is exactly zero: the same samples and
             // state as the full path, at a fraction of its cost.
-            self.object.set_ball(self.space.ball());
-            self.object
-                .process_chunk_stereo(&self.coupled, &mut self.sound, &mut self.side);
-            self.gain.advance(CHUNK, fs);
-            self.force_mix.advance(CHUNK, fs);
+            c.object.set_ball(c.space.ball());
+            Stage::process(
+                &mut c.object,
+                (&self.coupled, &mut self.sound, &mut self.side),
+            );
+            self.gain.advance(CHUNK, self.fs);
+            self.force_mix.advance(CHUNK, self.fs);
             return;
         }
         // The object hears the force without its static load (see `dcblock`), at the
         // ball's place.
-        self.dc.process(&self.force, &mut self.coupled);
+        Stage::process(&mut c.dc, (&self.force, &mut self.coupled));
         self.quiet = silent_force && self.coupled.iter().all(|&c| c == 0.0);
-        self.object.set_ball(self.space.ball());
-        self.object
-            .process_chunk_stereo(&self.coupled, &mut self.sound, &mut self.side);
-        if let Some((reference, physics)) = self.engines.level_forces() {
-            // The level match (`engine_mix`): both engines' forces through the twins.
-            for (i, f) in [reference, physics].into_iter().enumerate() {
-                self.twin_dc[i].process(f, &mut self.twin_in);
-                self.twins[i].set_ball(self.space.ball());
-                self.twins[i].process_chunk(&self.twin_in, &mut self.twin_out[i]);
+        c.object.set_ball(c.space.ball());
+        Stage::process(
+            &mut c.object,
+            (&self.coupled, &mut self.sound, &mut self.side),
+        );
+        // The level match (`engine_mix`): both engines' forces through the twins.
+        let ball = c.space.ball();
+        Stage::process(&mut c.twins, (&mut c.engines, ball));
+        self.output();
+    }
+
+    /// The level law for summed balls (`balls`): N rolling balls at 1/√N each (the scene's
+    /// ball counts with its crowd), applied to the chunk's force.
+    fn apply_ball_level(&mut self) {
+        let scene_balls = if self.params.velocity() > 0.0 {
+            self.chain.crowd.count()
+        } else {
+            0
+        };
+        let rolling = self.chain.balls.active() + scene_balls;
+        self.ball_level.set_target(level_for_balls(rolling));
+        if self.ball_level.is_moving() || self.ball_level.value() != 1.0 {
+            let (a, b) = self.ball_level.advance(CHUNK, self.fs);
+            let step = (b - a) / CHUNK as f64;
+            for (i, f) in self.force.iter_mut().enumerate() {
+                *f *= (a + step * (i + 1) as f64) as f32;
             }
-            self.engines
-                .observe_level(&self.twin_out[0], &self.twin_out[1]);
         }
+    }
+
+    /// The output stage: the object's sound or the force (crossfaded), the gain, and the
+    /// last line of defence against NaN, infinities and subnormals.
+    fn output(&mut self) {
+        let fs = self.fs;
         let (g0, g1) = self.gain.advance(CHUNK, fs);
         let (x0, x1) = self.force_mix.advance(CHUNK, fs);
         let inv = 1.0 / CHUNK as f32;

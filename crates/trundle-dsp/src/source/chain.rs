@@ -12,12 +12,14 @@
 //! AM depth and rate) are interpolated sample by sample. A ball at rest (V = 0, smoothed and
 //! target) generates no impacts at all.
 
+use crate::params::{ParamId, Params};
 use crate::smooth::Smoother;
 use crate::source::action::{ActionSeries, ActionStep};
 use crate::source::lowpass::{cutoff_hz, loudness, size_gain, Lowpass};
 use crate::source::modulation::{depth_at, rate_hz, AsymmetryLaw, Modulator};
 use crate::source::prototype::ActionParams;
 use crate::source::pulse::{duration_s, PulseEval, PulseShape, PulseTrain, T0_MAX_S};
+use crate::stage::Stage;
 
 /// One generated impact, as reported for analysis (`--impacts FILE.csv`).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -198,6 +200,8 @@ impl ImpactLog {
 #[derive(Clone, Debug)]
 pub struct Source {
     fs: f64,
+    /// The seed of the series (a change of the `seed` parameter restarts it).
+    seed: u64,
     series: ActionSeries,
     shape: PulseShape,
     train: PulseTrain,
@@ -250,6 +254,7 @@ impl Source {
         let fs = crate::block::sanitize_sample_rate(sample_rate_hz);
         let mut s = Self {
             fs,
+            seed,
             series: ActionSeries::new(
                 ActionParams::at(
                     controls.action_x,
@@ -308,6 +313,7 @@ impl Source {
 
     /// Set the seed; takes effect at once (the series restarts from the new seed).
     pub fn set_seed(&mut self, seed: u64) {
+        self.seed = seed;
         self.series.set_seed(seed);
         self.series.reset();
     }
@@ -580,5 +586,55 @@ impl Source {
 
         self.next_center -= n as f64;
         self.origin += n as f64;
+    }
+}
+
+impl SourceControls {
+    /// The scene ball's controls in a parameter set.
+    pub fn from_params(p: &Params) -> Self {
+        Self {
+            size: p.get(ParamId::Size),
+            velocity: p.get(ParamId::Velocity),
+            roughness: p.get(ParamId::Roughness),
+            asymmetry: p.get(ParamId::Asymmetry),
+            sharpness: p.get(ParamId::Sharpness),
+            action_x: p.get(ParamId::ActionX),
+            action_y: p.get(ParamId::ActionY),
+            asymmetry_law: p.asymmetry_law(),
+            contact_scale: p.contact_scale(),
+        }
+    }
+}
+
+impl Stage for Source {
+    /// The chunk of force written (overwritten).
+    type Io<'a> = &'a mut [f32];
+
+    fn set_sample_rate(&mut self, sample_rate_hz: f64) {
+        Source::set_sample_rate(self, sample_rate_hz);
+    }
+
+    fn reset(&mut self, seed: u64) {
+        self.set_seed(seed);
+        Source::reset(self);
+    }
+
+    fn set_params(&mut self, params: &Params) {
+        self.set_controls(SourceControls::from_params(params));
+        if params.seed() != self.seed {
+            self.set_seed(params.seed());
+        }
+    }
+
+    fn snap(&mut self) {
+        self.snap_controls();
+    }
+
+    fn is_idle(&self) -> bool {
+        Source::is_idle(self)
+    }
+
+    fn process(&mut self, out: &mut [f32]) {
+        self.process_chunk(out);
     }
 }

@@ -10,6 +10,9 @@
 //! mode the object sounds (10 Hz) and below hearing. The raw force output (`output =
 //! force`) is not filtered: it stays the model's force for analysis.
 
+use crate::params::Params;
+use crate::stage::Stage;
+
 /// Corner frequency of the DC blocker (Hz).
 pub const DC_BLOCK_HZ: f64 = 5.0;
 
@@ -102,6 +105,32 @@ impl DcBlock {
         } else {
             0.0
         };
+    }
+}
+
+impl Stage for DcBlock {
+    /// The chunk of force in, the force the object hears out.
+    type Io<'a> = (&'a [f32], &'a mut [f32]);
+
+    fn set_sample_rate(&mut self, sample_rate_hz: f64) {
+        DcBlock::set_sample_rate(self, crate::block::sanitize_sample_rate(sample_rate_hz));
+    }
+
+    fn reset(&mut self, _seed: u64) {
+        DcBlock::reset(self);
+    }
+
+    fn set_params(&mut self, _params: &Params) {}
+
+    fn snap(&mut self) {}
+
+    /// Its state is zero: a zero chunk in gives a zero chunk out.
+    fn is_idle(&self) -> bool {
+        self.x1 == 0.0 && self.y1 == 0.0
+    }
+
+    fn process(&mut self, (x, out): (&[f32], &mut [f32])) {
+        DcBlock::process(self, x, out);
     }
 }
 
