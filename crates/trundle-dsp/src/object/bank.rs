@@ -235,7 +235,7 @@ impl ModalBank {
         (self.re[k], self.im[k])
     }
 
-    /// Set mode `k`'s state (when a mode moves between this bank and a [`LongBank`]).
+    /// Set mode `k`'s state (when a mode moves between this bank and a [`LongBank`](crate::object::long_bank::LongBank)).
     pub fn set_state(&mut self, k: usize, re: f32, im: f32) {
         if k < self.re.len() {
             self.re[k] = re;

@@ -7,7 +7,7 @@
 pub const LONG_MODE_SAMPLES: f64 = 1.0e5;
 
 /// The few modes that ring longer than [`LONG_MODE_SAMPLES`]: the same Mathews–Smith
-/// recursion as [`ModalBank`] with f64 coefficients and state, so a 60 s decay is realized
+/// recursion as [`ModalBank`](crate::object::bank::ModalBank) with f64 coefficients and state, so a 60 s decay is realized
 /// as set at any sample rate (the f32 bank realizes 27–58 s there). Modes are addressed by
 /// slot; the caller keeps which mode sits in which slot.
 ///

@@ -40,7 +40,7 @@
 //! contact a = κ·x^3/2·(1 + χ·ẋ) (κ of the physics engine for the ball and object
 //! materials), free flight in closed form, contact by RK4 at [`HC_SUBSTEPS`](hunt_crossley::HC_SUBSTEPS) steps per
 //! sample, the damping χ = c/v_in with c solved once per drop so that each contact's
-//! restitution is exactly e ([`hc_damping_for`](hunt_crossley::hc_damping_for)); its contact force (scaled so an elastic
+//! restitution is exactly e ([`hc_damping_for`]); its contact force (scaled so an elastic
 //! impact at 1 m/s peaks as the signal model's bounce at 1 m/s) is the bounce. Spin contacts,
 //! seams and grit are this stage's pulses in either engine.
 

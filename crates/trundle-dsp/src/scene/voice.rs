@@ -2,10 +2,19 @@
 //! a [`Params`] set.
 //!
 //! ```text
-//! Params ─┬► Source (series → pulses → AM → low-pass) ──┐ engine crossfade
-//!         └► PhysicsEngine (Hunt–Crossley, RK4) × norm ──┴► force ─► Space (position comb) ─► DC block ─► Object (modal bank) ─► × gain ─► out
-//!                                                          └──────────── output = force ─────────────────────────┘
+//! Params ──► every stage's set_params (stage::Stage)
+//!
+//! source ─► engines ─► gesture ─► space ─► + balls ─► + crowd ─► × level law ─► force
+//! (signal   (or the     (drops,   (position  (notes)   (N balls)   (1/√N)
+//!  model)    physics,    spins)    comb)
+//!            crossfade)
+//! force ─► dc ─► object (modal bank) ─► mid, side ─► × gain ─► out      (output = force: the force)
+//!                twins: the object again, for the physics engine's level match
 //! ```
+//!
+//! The stages are listed once (`stages!` below): building them, changing the sample rate,
+//! resetting, handing them the parameters, snapping and the idle test fan out over that
+//! list; `Voice::render_chunk` runs them in the order drawn above.
 //!
 //! The force comes from the signal model ([`Source`]) or from the physics engine
 //! ([`PhysicsEngine`]), chosen by the `engine` parameter; the mapping of the controls onto
@@ -16,7 +25,7 @@
 //! ([`Voice::drain_impacts`]) reports the impacts of whichever engine runs (the physics
 //! ball's contacts, see [`crate::scene::engine_mix`]).
 //!
-//! Lifecycle ([`crate`] docs): [`Voice::new`] allocates; [`Voice::set_sample_rate`] may
+//! Lifecycle ([`crate::stage`]): [`Voice::new`] allocates; [`Voice::set_sample_rate`] may
 //! allocate; [`Voice::reset`] and [`Voice::process`] never do. Blocks of any length are
 //! split into chunks of [`CHUNK`] samples, so the output does not depend on the block size:
 //! the same seed and parameters give the same samples whether rendered in blocks of 1 or

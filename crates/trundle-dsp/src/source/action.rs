@@ -11,18 +11,18 @@
 //!
 //! One uniform draw per impact feeds both inverse CDFs (the CMJ scheme: the whitened
 //! residuals of A and Δ_T are one process). Each interaction is a full parameter set
-//! 𝔓 = {ζ, θ, P_A, P_Δ, C_A, C_Δ, μ_A, μ_Δ} ([`Prototype`]):
+//! 𝔓 = {ζ, θ, P_A, P_Δ, C_A, C_Δ, μ_A, μ_Δ} ([`Prototype`](crate::source::prototype::Prototype)):
 //!
 //! | | ζ | θ | P_A | P_Δ | C_A, C_Δ | μ_A, μ_Δ |
 //! |---|---|---|---|---|---|---|
-//! | **rub** | [`friction_zeta_s`]`(S)` (one sample at 48 kHz for the smallest S) | 0 | N(0, σ_rub) | δ(1 sample): one impact per sample | 0 | 0 |
-//! | **scratch** | as rub | 0 | N(0, σ_scratch) | Exp(mean [`SCRATCH_MEAN_INTERVAL_S`]) | 0 | 0 |
+//! | **rub** | [`friction_zeta_s`](crate::source::prototype::friction_zeta_s)`(S)` (one sample at 48 kHz for the smallest S) | 0 | N(0, σ_rub) | δ(1 sample): one impact per sample | 0 | 0 |
+//! | **scratch** | as rub | 0 | N(0, σ_scratch) | Exp(mean [`SCRATCH_MEAN_INTERVAL_S`](crate::source::prototype::SCRATCH_MEAN_INTERVAL_S)) | 0 | 0 |
 //! | **roll** | 7.88·10⁻⁴·S s | 0.29 | N(0, σ_A(ρ)) | N(0, σ_Δ(ρ)) | Table I at ρ | Table I at ρ |
 //!
 //! The anchors sit on the unit circle at 0 (rub), 2π/3 (scratch) and 4π/3 (roll); a cursor
 //! weighs them with [`crate::object::disk::weights`] (T(θ) of eq 9 on the circle, the
 //! (1 − r)·𝔓_C + r·𝔓_S(θ) blend of eqs 10–11 inside). Scalars (ζ, θ, filter coefficients,
-//! means) blend linearly; the densities blend **as densities** — a [`Mixture`] — and are
+//! means) blend linearly; the densities blend **as densities** — a [`Mixture`](crate::source::density::Mixture) — and are
 //! sampled through the inverse of the mixture's CDF, a [`QuantileTable`] rebuilt (without
 //! allocating) when the cursor moves.
 //!
