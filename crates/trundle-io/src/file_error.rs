@@ -18,6 +18,14 @@ pub enum FileKind {
 }
 
 impl FileKind {
+    /// "object file" / "preset file".
+    pub fn noun(self) -> &'static str {
+        match self {
+            FileKind::Object => "object file",
+            FileKind::Preset => "preset file",
+        }
+    }
+
     /// "an object file" / "a preset file".
     pub fn name(self) -> &'static str {
         match self {
@@ -72,13 +80,7 @@ impl fmt::Display for Problem {
                 write!(f, "larger than {}: not {}", kind.cap_text(), kind.name())
             }
             Problem::NotUtf8(kind) => write!(f, "not UTF-8 text: not {}", kind.name()),
-            Problem::Json(kind, e) => {
-                let what = kind
-                    .name()
-                    .trim_start_matches("an ")
-                    .trim_start_matches("a ");
-                write!(f, "not a valid {what} (JSON: {e})")
-            }
+            Problem::Json(kind, e) => write!(f, "not a valid {} (JSON: {e})", kind.noun()),
             Problem::Values(e) => write!(f, "{e}"),
         }
     }
