@@ -19,6 +19,7 @@ use crate::stats::{impacts_of, Series, DEFAULT_THRESHOLD};
 use std::fs;
 use std::path::Path;
 use trundle_dsp::analysis::impacts::Impact;
+use trundle_io::recording::{decode, DecodeOptions, Layout, RecordingProblem};
 
 /// Arguments of `trundle analyze`.
 #[derive(clap::Args, Debug)]
@@ -92,45 +93,28 @@ pub fn load(path: &Path, threshold: f64) -> Result<(Series, String), CliError> {
     }
 }
 
-/// Read a WAV file's first channel as samples scaled to ±1 full scale.
+/// Read a force file's first channel as samples scaled to ±1 full scale, through the one
+/// decoder ([`trundle_io::recording`]: a WAV as `render --force-only` writes it, or a FLAC or
+/// OGG/Vorbis file), as long as the longest render ([`crate::render::MAX_SECONDS`]).
 pub fn read_wav(path: &Path) -> Result<(Vec<f32>, f64, String), CliError> {
-    let shown = quote(&path.display().to_string());
-    let reader = hound::WavReader::open(path)
-        .map_err(|e| input(format!("{shown} is not a readable WAV file ({e})")))?;
-    let spec = reader.spec();
-    let channels = usize::from(spec.channels.max(1));
-    let bad = |e: hound::Error| input(format!("{shown}: damaged WAV data ({e})"));
-    let all: Vec<f32> = match spec.sample_format {
-        hound::SampleFormat::Float => reader
-            .into_samples::<f32>()
-            .collect::<Result<_, _>>()
-            .map_err(bad)?,
-        hound::SampleFormat::Int => {
-            if spec.bits_per_sample == 0 || spec.bits_per_sample > 32 {
-                return Err(input(format!(
-                    "{shown}: unsupported WAV sample size {} bits",
-                    spec.bits_per_sample
-                )));
-            }
-            let full = (1u64 << (spec.bits_per_sample - 1)) as f64;
-            reader
-                .into_samples::<i32>()
-                .map(|s| s.map(|v| (f64::from(v) / full) as f32))
-                .collect::<Result<_, _>>()
-                .map_err(bad)?
-        }
+    let options = DecodeOptions {
+        layout: Layout::Interleaved,
+        max_seconds: crate::render::MAX_SECONDS,
     };
-    let force: Vec<f32> = all
-        .iter()
-        .step_by(channels)
-        .map(|&x| if x.is_finite() { x } else { 0.0 })
-        .collect();
-    let note = if channels > 1 {
-        format!(", first of {channels} channels")
+    let rec = decode(path, &options).map_err(|e| match e.problem {
+        RecordingProblem::NotAudio(why) => input(format!(
+            "{} is not a readable WAV file ({why})",
+            quote(&path.display().to_string())
+        )),
+        _ => e.into(),
+    })?;
+    let force: Vec<f32> = rec.channel(0).into_iter().map(|x| x as f32).collect();
+    let note = if rec.channels > 1 {
+        format!(", first of {} channels", rec.channels)
     } else {
         String::new()
     };
-    Ok((force, f64::from(spec.sample_rate), note))
+    Ok((force, rec.sample_rate_hz, note))
 }
 
 /// Read an impact list (`time_s,amplitude,duration_s`); returns the impacts and the time

@@ -62,19 +62,15 @@ pub fn failure(msg: impl Into<String>) -> CliError {
     CliError::Failure(msg.into())
 }
 
-/// Quote user-supplied text for an error message (control characters escaped).
-pub fn quote(text: &str) -> String {
-    let mut s = String::with_capacity(text.len() + 2);
-    s.push('\'');
-    for c in text.chars() {
-        if c.is_control() {
-            s.extend(c.escape_default());
-        } else {
-            s.push(c);
-        }
+/// Quote user-supplied text for an error message (control characters escaped): the file
+/// layer's rule, so the command and the readers quote alike.
+pub use trundle_io::quote;
+
+/// A recording that cannot be decoded is bad input; the decoder's message names the file.
+impl From<trundle_io::recording::RecordingError> for CliError {
+    fn from(e: trundle_io::recording::RecordingError) -> Self {
+        input(e.to_string())
     }
-    s.push('\'');
-    s
 }
 
 #[cfg(test)]

@@ -9,7 +9,6 @@
 //! strikes) is refused with one `error:` line and exit code 2; nothing is written.
 
 use crate::atomic::TempFile;
-use crate::decode::read_recording;
 use crate::error::{failure, input, quote, CliError};
 use crate::output::check_destination;
 use serde_json::json;
@@ -18,6 +17,7 @@ use std::path::{Path, PathBuf};
 use trundle_dsp::fit::{fit_strike, json::to_json, resynthesize, FittedObject};
 use trundle_dsp::object::fitted::{LoadedObject, ObjectFile};
 use trundle_dsp::scene::impulse::impulse_response;
+use trundle_io::recording::read_recording;
 
 /// Arguments of `trundle fit-object`.
 #[derive(clap::Args, Debug)]
@@ -172,4 +172,51 @@ pub fn run(args: &FitObjectArgs) -> Result<String, CliError> {
         ));
     }
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use trundle_io::test_files::{write_flac, write_wav};
+
+    /// `fit-object` reads a strike through the decoder the plugin's Load… uses
+    /// (`trundle_io::recording`): the same strike as WAV and as FLAC fits to the same modes.
+    #[test]
+    fn a_strike_fits_alike_from_wav_and_flac() {
+        let dir = std::env::temp_dir().join(format!("trundle-fit-cmd-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let fs = 48_000u32;
+        let strike: Vec<f64> = (0..fs / 2)
+            .map(|i| {
+                let u = f64::from(i) / f64::from(fs) - 0.01;
+                if u < 0.0 {
+                    0.0
+                } else {
+                    0.6 * (-u / 0.06).exp() * (2.0 * std::f64::consts::PI * 523.0 * u).sin()
+                }
+            })
+            .collect();
+        let wav = dir.join("strike.wav");
+        let flac = dir.join("strike.flac");
+        write_wav(&wav, std::slice::from_ref(&strike), fs).unwrap();
+        write_flac(&flac, &[strike], fs).unwrap();
+        let strongest = |path: &Path| {
+            let (fit, samples, channels) = fit_file(path).unwrap();
+            assert_eq!((samples.len(), channels), (24_000, 1));
+            fit.modes
+                .iter()
+                .max_by(|a, b| a.amplitude.total_cmp(&b.amplitude))
+                .map(|m| m.freq_hz)
+                .unwrap()
+        };
+        let (a, b) = (strongest(&wav), strongest(&flac));
+        assert!(
+            (a - 523.0).abs() < 0.5 && (b - 523.0).abs() < 0.5,
+            "{a} {b}"
+        );
+        let e = fit_file(&dir.join("missing.ogg")).unwrap_err();
+        assert_eq!(e.exit_code(), 2);
+        assert!(e.to_string().contains("missing.ogg"), "{e}");
+        std::fs::remove_dir_all(&dir).ok();
+    }
 }

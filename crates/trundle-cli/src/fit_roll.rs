@@ -10,7 +10,6 @@
 //!      at equal energy (an estimate's against the resynthesis through the same inverse)
 //! ```
 
-use crate::decode::read_recording;
 use crate::error::{input, quote, CliError};
 use crate::fit_cmd::write_text;
 use crate::output::check_destination;
@@ -18,13 +17,15 @@ use crate::stats::{impacts_of, Series, DEFAULT_THRESHOLD};
 use serde_json::json;
 use std::path::PathBuf;
 use trundle_dsp::fit::deconvolve::{med_inverse, WienerInverse};
-use trundle_dsp::fit::json::from_json;
 use trundle_dsp::fit::roll::{fit_roll_with, Action, RollOptions};
 use trundle_dsp::fit::{log_spectral_distance_db, resynthesize};
 use trundle_dsp::params::ParamEnum;
 use trundle_dsp::scene::preset::Preset;
 use trundle_dsp::source::contact::BallMaterial;
 use trundle_dsp::{ParamId, Params, Voice};
+use trundle_io::object_file::read_object_file;
+use trundle_io::recording::read_recording;
+use trundle_io::Problem;
 
 /// Arguments of `trundle fit-roll`.
 #[derive(clap::Args, Debug)]
@@ -143,15 +144,15 @@ pub fn run(args: &FitRollArgs) -> Result<String, CliError> {
         )
     } else if let Some(obj) = &args.object {
         let oshown = quote(&obj.display().to_string());
-        let text = std::fs::read_to_string(obj)
-            .map_err(|e| input(format!("cannot read {oshown}: {e}")))?;
-        let v: serde_json::Value = serde_json::from_str(&text)
-            .map_err(|e| input(format!("{oshown} is not JSON ({e})")))?;
-        let (o, osource) = from_json(&v).map_err(|e| input(format!("{oshown}: {e}")))?;
-        embedded = Some(trundle_dsp::object::fitted::ObjectFile {
-            object: o.clone(),
-            source: osource,
-        });
+        let file = read_object_file(obj).map_err(|e| {
+            input(match e.problem {
+                Problem::Open(e) | Problem::Read(e) => format!("cannot read {oshown}: {e}"),
+                Problem::Json(_, e) => format!("{oshown} is not JSON ({e})"),
+                p => format!("{oshown}: {p}"),
+            })
+        })?;
+        let o = file.object.clone();
+        embedded = Some(file);
         let longest = o.modes.iter().fold(0.0f64, |a, m| a.max(m.decay_s));
         edge_s = edge_s.max(longest.min(1.0));
         let h = resynthesize(&o.modes, fs, ((5.0 * longest).min(4.0) * fs) as usize + 1);

@@ -29,7 +29,6 @@ mod analyze;
 mod atomic;
 mod bench;
 mod calibrate;
-mod decode;
 mod error;
 mod fit_cmd;
 mod fit_plot;

@@ -36,11 +36,11 @@
 //! folder that does not exist — is one `error:` line and exit code 2. Files at different
 //! sample rates are compared (the table says so).
 
-use crate::decode::read_recording;
 use crate::error::{failure, input, quote, CliError};
 use realfft::RealFftPlanner;
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
+use trundle_io::recording::read_recording;
 
 /// Welch frame length (samples).
 pub const FRAME: usize = 8192;

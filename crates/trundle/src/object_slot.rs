@@ -2,7 +2,9 @@
 //! to the audio thread without a lock or an allocation there.
 //!
 //! A sound designer brings a recorded prop in three ways: an object file written by
-//! `trundle fit-object` (`*.object.json`), a WAV of one strike fitted on the spot (the fit —
+//! `trundle fit-object` (`*.object.json`), a recording of one strike (WAV, FLAC or OGG/Vorbis:
+//! the files `trundle fit-object` takes, read by the same decoder, [`trundle_io::recording`])
+//! fitted on the spot (the fit —
 //! `trundle_dsp::fit`, 0.2–1 s — runs on a thread of its own, never the GUI's or the
 //! audio thread's), or a preset whose `object` entry carries one. The object then replaces
 //! the recipe object (shape × material × size); the material, decay, size and width
@@ -29,6 +31,8 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicPtr, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use trundle_dsp::object::fitted::{self, LoadedObject, ObjectFile};
+use trundle_io::object_file;
+use trundle_io::recording::{is_recording_name, read_recording};
 
 /// The name of the persisted state field holding the object file (JSON text).
 pub const OBJECT_FIELD: &str = "object";
@@ -133,19 +137,16 @@ impl ObjectSlot {
             .map(|f| fitted::to_json(&f.object, &f.source).to_string())
     }
 
-    /// Read a state's object text: the object file, or why it is unusable.
+    /// Read a state's object text: the object file, or why it is unusable
+    /// ([`trundle_io::object_file::parse_object_text`]).
     pub fn parse(text: &str) -> Result<ObjectFile, String> {
-        let v: serde_json::Value =
-            serde_json::from_str(text).map_err(|e| format!("not JSON: {e}"))?;
-        let (object, source) = fitted::from_json(&v)?;
-        Ok(ObjectFile { object, source })
+        object_file::parse_object_text(text).map_err(|p| p.to_string())
     }
 
-    /// Read an object file from disk (`*.object.json`).
+    /// Read an object file from disk (`*.object.json`, at most
+    /// [`object_file::MAX_OBJECT_BYTES`]): the command's reader.
     pub fn read_object_file(path: &Path) -> Result<ObjectFile, String> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
-        Self::parse(&text).map_err(|e| format!("{}: {e}", path.display()))
+        object_file::read_object_file(path).map_err(|e| e.to_string())
     }
 
     /// The generation of the last publish (audio thread: cheap, lock-free).
@@ -185,16 +186,15 @@ impl ObjectSlot {
         *self.status.lock().unwrap_or_else(|e| e.into_inner()) = s;
     }
 
-    /// Load `path` (GUI thread): an object file is read at once; a WAV recording of one
-    /// strike is fitted on a thread of its own and played when the fit is done. The status
-    /// says how it went.
+    /// Load `path` (GUI thread): an object file is read at once; a recording of one strike
+    /// (WAV, FLAC, OGG/Vorbis) is fitted on a thread of its own and played when the fit is
+    /// done. The status says how it went.
     pub fn load_path(self: &Arc<Self>, path: PathBuf) {
         let name = path
             .file_name()
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_default();
-        let lower = name.to_ascii_lowercase();
-        if lower.ends_with(".wav") {
+        if is_recording_name(&name) {
             self.set_status(FitStatus::Fitting(name.clone()));
             let slot = self.clone();
             let spawned = std::thread::Builder::new()
@@ -235,34 +235,13 @@ impl ObjectSlot {
     }
 }
 
-/// Read a WAV recording (any rate, mono or mixed down) and fit its modes
+/// Decode a recording (WAV, FLAC, OGG/Vorbis; any rate, mixed to mono: the decoder
+/// `trundle fit-object` uses, [`read_recording`]) and fit its modes
 /// ([`trundle_dsp::fit::fit_strike`]): the object file of `path`.
 pub fn fit_recording(path: &Path) -> Result<ObjectFile, String> {
-    let shown = path.display();
-    let mut reader =
-        hound::WavReader::open(path).map_err(|e| format!("cannot read {shown}: {e}"))?;
-    let spec = reader.spec();
-    let channels = usize::from(spec.channels.max(1));
-    let interleaved: Vec<f64> = match spec.sample_format {
-        hound::SampleFormat::Float => reader
-            .samples::<f32>()
-            .map(|s| s.map(f64::from))
-            .collect::<Result<_, _>>(),
-        hound::SampleFormat::Int => {
-            let full = f64::from(1u32 << (spec.bits_per_sample.clamp(1, 32) - 1));
-            reader
-                .samples::<i32>()
-                .map(|s| s.map(|x| f64::from(x) / full))
-                .collect::<Result<_, _>>()
-        }
-    }
-    .map_err(|e| format!("{shown}: {e}"))?;
-    let mono: Vec<f64> = interleaved
-        .chunks(channels)
-        .map(|frame| frame.iter().sum::<f64>() / frame.len() as f64)
-        .collect();
-    let object = trundle_dsp::fit::fit_strike(&mono, f64::from(spec.sample_rate))
-        .map_err(|e| format!("{shown}: {e}"))?;
+    let recording = read_recording(path).map_err(|e| e.to_string())?;
+    let object = trundle_dsp::fit::fit_strike(&recording.samples, recording.sample_rate_hz)
+        .map_err(|e| format!("{}: {e}", path.display()))?;
     let source = path
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
@@ -373,50 +352,52 @@ mod tests {
     }
 
     #[test]
-    fn a_wav_strike_is_fitted_and_a_non_strike_refused() {
+    fn a_strike_is_fitted_from_wav_and_flac_alike_and_a_non_strike_refused() {
+        use trundle_io::test_files::{write_flac, write_wav};
         let dir = std::env::temp_dir().join(format!("trundle-slot-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let fs = 48_000u32;
-        let write = |name: &str, f: &dyn Fn(f64) -> f64| {
-            let path = dir.join(name);
-            let spec = hound::WavSpec {
-                channels: 1,
-                sample_rate: fs,
-                bits_per_sample: 24,
-                sample_format: hound::SampleFormat::Int,
-            };
-            let mut w = hound::WavWriter::create(&path, spec).unwrap();
-            for i in 0..fs / 2 {
-                let t = f64::from(i) / f64::from(fs);
-                w.write_sample((f(t) * 8_388_607.0) as i32).unwrap();
-            }
-            w.finalize().unwrap();
-            path
-        };
-        // Two damped modes, struck at 10 ms.
-        let strike = write("strike.wav", &|t: f64| {
-            let u = t - 0.01;
-            if u < 0.0 {
-                0.0
-            } else {
-                0.5 * (-u / 0.08).exp() * (2.0 * std::f64::consts::PI * 440.0 * u).sin()
-                    + 0.3 * (-u / 0.05).exp() * (2.0 * std::f64::consts::PI * 1_250.0 * u).sin()
-            }
-        });
-        let file = fit_recording(&strike).unwrap();
-        let mut freqs: Vec<f64> = file
-            .object
-            .modes
-            .iter()
-            .filter(|m| m.amplitude > 0.05)
-            .map(|m| m.freq_hz)
+        // Two damped modes, struck at 10 ms; half a second.
+        let strike: Vec<f64> = (0..fs / 2)
+            .map(|i| {
+                let u = f64::from(i) / f64::from(fs) - 0.01;
+                if u < 0.0 {
+                    0.0
+                } else {
+                    0.5 * (-u / 0.08).exp() * (2.0 * std::f64::consts::PI * 440.0 * u).sin()
+                        + 0.3 * (-u / 0.05).exp() * (2.0 * std::f64::consts::PI * 1_250.0 * u).sin()
+                }
+            })
             .collect();
-        freqs.sort_by(f64::total_cmp);
-        assert_eq!(freqs.len(), 2, "{freqs:?}");
-        assert!((freqs[0] - 440.0).abs() < 0.5 && (freqs[1] - 1_250.0).abs() < 0.5);
-        let silence = write("silence.wav", &|_| 0.0);
+        let wav = dir.join("strike.wav");
+        let flac = dir.join("strike.FLAC");
+        write_wav(&wav, std::slice::from_ref(&strike), fs).unwrap();
+        write_flac(&flac, &[strike.clone(), strike], fs).unwrap();
+        for path in [&wav, &flac] {
+            assert!(is_recording_name(&path.display().to_string()));
+            let file = fit_recording(path).unwrap();
+            let mut freqs: Vec<f64> = file
+                .object
+                .modes
+                .iter()
+                .filter(|m| m.amplitude > 0.05)
+                .map(|m| m.freq_hz)
+                .collect();
+            freqs.sort_by(f64::total_cmp);
+            assert_eq!(freqs.len(), 2, "{path:?}: {freqs:?}");
+            assert!(
+                (freqs[0] - 440.0).abs() < 0.5 && (freqs[1] - 1_250.0).abs() < 0.5,
+                "{path:?}: {freqs:?}"
+            );
+        }
+        let silence = dir.join("silence.wav");
+        write_wav(&silence, &[vec![0.0; 24_000]], fs).unwrap();
         assert!(fit_recording(&silence).is_err());
-        assert!(fit_recording(&dir.join("missing.wav")).is_err());
+        let e = fit_recording(&dir.join("missing.ogg")).unwrap_err();
+        assert!(
+            e.contains("missing.ogg") && e.contains("cannot open"),
+            "{e}"
+        );
         std::fs::remove_dir_all(&dir).ok();
     }
 }

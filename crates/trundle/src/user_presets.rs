@@ -17,7 +17,8 @@
 //!   [`TAGS_FILE`], in the same directory (`{"trundle_preset_tags": 1, "tags": {"file.json":
 //!   ["tag", …]}}`). A missing index means no tags; an unreadable one is reported and
 //!   treated as empty (the next tag edit rewrites it).
-//! * **Errors.** A file that does not parse is listed with the reason
+//! * **Errors.** Files are read by the command's reader ([`trundle_io::preset_file`]: the
+//!   same size cap and messages). A file that does not parse is listed with the reason
 //!   ([`UserPreset::preset`] is `Err`), never skipped silently and never a panic.
 //! * **Threads.** This is file I/O: the editor calls it on the GUI thread only, on a user's
 //!   action (opening the browser, save, rename, delete, tag), never from `process`.
@@ -30,6 +31,7 @@ use std::path::{Path, PathBuf};
 use trundle_dsp::object::fitted::ObjectFile;
 use trundle_dsp::scene::preset::Preset;
 use trundle_dsp::Params;
+use trundle_io::preset_file::read_preset_file;
 
 /// The environment variable that overrides the user preset directory.
 pub const DIR_ENV: &str = "TRUNDLE_PRESET_DIR";
@@ -118,9 +120,7 @@ impl PresetStore {
             if file == TAGS_FILE || !file.ends_with(".json") || file.starts_with('.') {
                 continue;
             }
-            let preset = fs::read_to_string(entry.path())
-                .map_err(|e| format!("cannot read the file: {e}"))
-                .and_then(|text| Preset::from_json(&text).map_err(|e| e.to_string()));
+            let preset = read_preset_file(&entry.path()).map_err(|e| e.problem.to_string());
             let tags = tags.get(&file).cloned().unwrap_or_default();
             listing.presets.push(UserPreset { file, preset, tags });
         }
@@ -131,10 +131,10 @@ impl PresetStore {
         listing
     }
 
-    /// Load one preset by file name.
+    /// Load one preset by file name (the command's reader: at most
+    /// [`trundle_io::preset_file::MAX_PRESET_BYTES`]).
     pub fn load(&self, file: &str) -> Result<Preset, String> {
-        let text = fs::read_to_string(self.path(file)?).map_err(|e| format!("{file}: {e}"))?;
-        Preset::from_json(&text).map_err(|e| format!("{file}: {e}"))
+        read_preset_file(&self.path(file)?).map_err(|e| format!("{file}: {}", e.problem))
     }
 
     /// Save `params` as a preset named `name` with `description` and `tags`; returns its

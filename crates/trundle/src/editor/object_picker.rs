@@ -1,7 +1,8 @@
 //! "Load object…": bring a recorded prop in. A page in place of the body (as the preset
 //! browser) lists a folder's subfolders, object files (`*.object.json`, from
-//! `trundle fit-object`) and WAV recordings; a path can also be typed or pasted. Loading a
-//! WAV fits it on the spot on a thread of its own ([`crate::object_slot`]); the page shows
+//! `trundle fit-object`) and recordings (WAV, FLAC, OGG/Vorbis: the files `trundle fit-object`
+//! takes); a path can also be typed or pasted. Loading a recording fits it on the spot on a
+//! thread of its own ([`crate::object_slot`]); the page shows
 //! how the fit went. The folder is read on the GUI thread when the page opens or moves —
 //! never on the audio thread.
 //!
@@ -16,6 +17,7 @@ use super::*;
 use crate::object_slot::FitStatus;
 use egui::RichText;
 use std::path::PathBuf;
+use trundle_io::recording::is_recording_name;
 
 /// One line of the folder listing.
 #[derive(Clone, Debug, PartialEq)]
@@ -53,12 +55,11 @@ impl Default for ObjectPicker {
 
 /// Whether the picker offers `name` as a file to load.
 fn loadable(name: &str) -> bool {
-    let lower = name.to_ascii_lowercase();
-    lower.ends_with(".json") || lower.ends_with(".wav")
+    name.to_ascii_lowercase().ends_with(".json") || is_recording_name(name)
 }
 
 impl ObjectPicker {
-    /// Read `dir` (GUI thread): subfolders first, then object files and WAVs, by name.
+    /// Read `dir` (GUI thread): subfolders first, then object files and recordings, by name.
     fn read(&mut self, dir: PathBuf) {
         match std::fs::read_dir(&dir) {
             Ok(list) => {
@@ -208,7 +209,8 @@ impl TrundleEditor {
                     }
                     if self.picker.entries.is_empty() && self.picker.error.is_none() {
                         ui.label(
-                            RichText::new("no folders, object files or WAVs here").color(TEXT_DIM),
+                            RichText::new("no folders, object files or recordings here")
+                                .color(TEXT_DIM),
                         );
                     }
                     for e in &self.picker.entries {
@@ -219,7 +221,7 @@ impl TrundleEditor {
                         };
                         let hint = if e.dir {
                             "open this folder"
-                        } else if e.name.to_ascii_lowercase().ends_with(".wav") {
+                        } else if is_recording_name(&e.name) {
                             "fit this strike and play it"
                         } else {
                             "play this object file"
@@ -275,13 +277,30 @@ mod tests {
         let dir = std::env::temp_dir().join(format!("trundle-picker-{}", std::process::id()));
         std::fs::create_dir_all(dir.join("b-folder")).unwrap();
         std::fs::create_dir_all(dir.join(".hidden")).unwrap();
-        for f in ["z.wav", "a.object.json", "notes.txt", "K.WAV"] {
+        for f in [
+            "z.wav",
+            "a.object.json",
+            "notes.txt",
+            "K.WAV",
+            "s.flac",
+            "r.ogg",
+        ] {
             std::fs::write(dir.join(f), b"").unwrap();
         }
         let mut p = ObjectPicker::default();
         p.read(dir.clone());
         let names: Vec<&str> = p.entries.iter().map(|e| e.name.as_str()).collect();
-        assert_eq!(names, ["b-folder", "a.object.json", "K.WAV", "z.wav"]);
+        assert_eq!(
+            names,
+            [
+                "b-folder",
+                "a.object.json",
+                "K.WAV",
+                "r.ogg",
+                "s.flac",
+                "z.wav"
+            ]
+        );
         assert_eq!(p.typed, dir.display().to_string());
         p.read(dir.join("missing"));
         assert!(p.error.is_some());
