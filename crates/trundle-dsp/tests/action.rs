@@ -14,8 +14,7 @@ use trundle_dsp::space::{image_sources, Space, SpaceControls, Trajectory};
 
 use trundle_dsp::{disk, ImpactRecord, ParamId, Params, Voice};
 
-mod common;
-use common::allocations_during;
+use trundle_test_support::alloc_guard::allocations_during;
 
 const FS: f64 = 48_000.0;
 

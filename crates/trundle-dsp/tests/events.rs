@@ -9,8 +9,7 @@ use rand::{Rng, SeedableRng};
 use trundle_dsp::events::{process_with_events, TimedEvent, VoiceEvent};
 use trundle_dsp::{ParamId, Params, Voice, CHUNK};
 
-mod common;
-use common::allocations_during;
+use trundle_test_support::alloc_guard::allocations_during;
 
 const FS: f64 = 48_000.0;
 

@@ -17,8 +17,7 @@ use trundle_dsp::surface::{
 // ---------------------------------------------------------------------------------------
 // Allocation counter (per thread, so parallel tests do not disturb each other).
 
-mod common;
-use common::allocations;
+use trundle_test_support::alloc_guard::allocations;
 
 // ---------------------------------------------------------------------------------------
 // Local analysis helpers.
