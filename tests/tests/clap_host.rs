@@ -187,22 +187,17 @@ fn elf_nodelete(elf: &[u8]) -> bool {
 #[test]
 fn the_bundles_are_built_and_loadable() {
     let path = bundle::ensure_clap_bundle().unwrap_or_else(|e| panic!("{e}"));
-    if cfg!(target_os = "linux") {
+    if std::env::var_os("TRUNDLE_CLAP_BUNDLE").is_none() && cfg!(target_os = "linux") {
         // On Linux a CLAP bundle is the shared library itself; a VST3 bundle is a
-        // directory with the library under Contents/<arch>-linux/. A bundle given by
-        // TRUNDLE_CLAP_BUNDLE is checked as well; the VST3 bundle is this workspace's, so
-        // it is checked when the CLAP bundle is too (TRUNDLE_CLAP_BUNDLE unset).
+        // directory with the library under Contents/<arch>-linux/.
         assert!(path.is_file(), "{} is not a file", path.display());
-        let mut libs = vec![path];
-        if std::env::var_os("TRUNDLE_CLAP_BUNDLE").is_none() {
-            let so = bundle::vst3_bundle_path()
-                .join("Contents")
-                .join(format!("{}-linux", std::env::consts::ARCH))
-                .join("Trundle.so");
-            assert!(so.is_file(), "no {}", so.display());
-            libs.push(so);
-        }
-        for lib in &libs {
+        let vst3 = bundle::vst3_bundle_path();
+        let so = vst3
+            .join("Contents")
+            .join(format!("{}-linux", std::env::consts::ARCH))
+            .join("Trundle.so");
+        assert!(so.is_file(), "no {}", so.display());
+        for lib in [&path, &so] {
             let bytes = std::fs::read(lib).expect("readable");
             assert_eq!(&bytes[..4], b"\x7fELF", "{} is not ELF", lib.display());
             // Linked `-z nodelete` (crates/trundle/build.rs): without it, a host that

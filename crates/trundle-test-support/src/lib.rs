@@ -7,6 +7,7 @@
 //! * [`alloc_guard`]: the no-allocation guard (a counting global allocator).
 //! * [`scratch`]: scratch folders, removed when the test passes.
 //! * [`wav`]: WAV files written from and read back as samples at ±1 full scale.
+//! * [`stats`]: mean and deviation, a least-squares line.
 //! * [`levels`]: peak and RMS levels, channels of interleaved frames.
 //! * [`cli`]: the `trundle` binary, run in a folder, and what it printed.
 //! * [`data`]: data from outside the repository (the recordings of Debian's
@@ -19,4 +20,5 @@ pub mod data;
 pub mod levels;
 pub mod scene;
 pub mod scratch;
+pub mod stats;
 pub mod wav;
