@@ -4,14 +4,9 @@
 
 use serde_json::Value;
 use std::fs;
-use std::path::PathBuf;
 
-mod common;
-use common::{json, ok, run};
-
-fn scratch(name: &str) -> PathBuf {
-    common::scratch("trundle-analysis-tests", name)
-}
+use trundle_test_support::cli::{json, ok, run};
+use trundle_test_support::scratch::scratch;
 
 fn f(v: &Value, path: &[&str]) -> f64 {
     let mut x = v;

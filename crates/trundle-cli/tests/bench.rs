@@ -3,12 +3,11 @@
 
 use std::process::Command;
 
-mod common;
-use common::BIN;
+use trundle_test_support::cli::bin;
 
 #[test]
 fn bench_json_has_every_timing() {
-    let o = Command::new(BIN)
+    let o = Command::new(bin())
         .args(["bench", "--json", "--quick"])
         .output()
         .unwrap();
@@ -67,7 +66,7 @@ fn bench_json_has_every_timing() {
 
 #[test]
 fn bench_table_names_the_targets() {
-    let o = Command::new(BIN)
+    let o = Command::new(bin())
         .args(["bench", "--quick"])
         .output()
         .unwrap();

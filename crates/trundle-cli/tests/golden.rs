@@ -21,13 +21,13 @@
 
 use std::collections::BTreeMap;
 use std::fs;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 use trundle_dsp::object::kernels::Kernel;
 use trundle_dsp::scene::preset::BUILTIN_PRESETS;
 
-mod common;
-use common::BIN;
+use trundle_test_support::cli::bin;
+use trundle_test_support::scratch::Scratch;
 const GOLDEN: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/golden_hashes.txt");
 
 /// FNV-1a, 64 bit: enough to tell any change of a sample from none.
@@ -40,8 +40,8 @@ fn fnv1a(bytes: &[u8]) -> u64 {
     h
 }
 
-fn scratch() -> PathBuf {
-    common::scratch("trundle-golden", "renders")
+fn scratch() -> Scratch {
+    trundle_test_support::scratch::scratch("renders")
 }
 
 /// Hash of the sample data of one render (the WAV's `data` chunk only, so a header change
@@ -49,7 +49,7 @@ fn scratch() -> PathBuf {
 /// channels.
 fn render_hash(dir: &Path, preset: &str, extra: &[&str], channels: u16) -> u64 {
     let out = dir.join(format!("{preset}{}.wav", extra.join("")));
-    let o = Command::new(BIN)
+    let o = Command::new(bin())
         .args(["render", "--preset", preset, "--seconds", "4"])
         .args([
             "--sample-rate",

@@ -12,11 +12,10 @@ use serde_json::{json, Value};
 use std::fs;
 use std::path::{Path, PathBuf};
 
-mod common;
-
-fn scratch(name: &str) -> PathBuf {
-    common::scratch("trundle-object-tests", name)
-}
+use trundle_test_support::bands::third_octave_distance_db;
+use trundle_test_support::data::hydrogen_kit_file;
+use trundle_test_support::scratch::scratch;
+use trundle_test_support::{cli, wav};
 
 /// (frequency Hz, decay s, amplitude, phase rad)
 const MODES: [(f64, f64, f64, f64); 6] = [
@@ -55,7 +54,7 @@ fn s(p: &Path) -> &str {
 /// Render `object` with --impulse at `rate`, fit it, compare with [`MODES`].
 fn impulse_and_fit_back(dir: &Path, object: &Path, rate: &str) {
     let wav = dir.join(format!("ir-{rate}.wav"));
-    common::ok(
+    cli::ok(
         dir,
         &[
             "render",
@@ -74,10 +73,10 @@ fn impulse_and_fit_back(dir: &Path, object: &Path, rate: &str) {
             s(&wav),
         ],
     );
-    let (spec, _) = common::read_wav(&wav);
+    let (spec, _) = wav::read_wav(&wav);
     assert_eq!(spec.sample_rate.to_string(), rate);
     let fitted = dir.join(format!("ir-{rate}.object.json"));
-    common::ok(dir, &["fit-object", s(&wav), "-o", s(&fitted)]);
+    cli::ok(dir, &["fit-object", s(&wav), "-o", s(&fitted)]);
     let v: Value = serde_json::from_str(&fs::read_to_string(&fitted).unwrap()).unwrap();
     let found = v["modes"].as_array().unwrap();
     let onset = v["onset_s"].as_f64().unwrap();
@@ -129,7 +128,7 @@ fn an_impulse_render_without_seconds_stops_90_db_down() {
     let d = scratch("length");
     let obj = write_object(&d, "o.object.json", &object_json(48_000.0));
     let wav = d.join("ir.wav");
-    let out = common::ok(
+    let out = cli::ok(
         &d,
         &["render", "--object", s(&obj), "--impulse", "-o", s(&wav)],
     );
@@ -137,7 +136,7 @@ fn an_impulse_render_without_seconds_stops_90_db_down() {
         out.contains("impulse response of the fitted object from synthetic"),
         "{out}"
     );
-    let (spec, x) = common::read_wav(&wav);
+    let (spec, x) = wav::read_wav(&wav);
     let seconds = x.len() as f64 / f64::from(spec.channels) / f64::from(spec.sample_rate);
     // The longest mode (0.9 s) falls 90 dB in 0.9·ln(10^4.5) = 9.3 s.
     assert!((8.5..10.5).contains(&seconds), "{seconds} s");
@@ -157,7 +156,7 @@ fn a_preset_with_an_object_entry_renders_and_differs_from_the_recipe() {
     let fitted = write_object(&d, "fitted.json", &preset);
     let render = |p: &Path, name: &str| {
         let wav = d.join(name);
-        common::ok(
+        cli::ok(
             &d,
             &[
                 "render",
@@ -172,7 +171,7 @@ fn a_preset_with_an_object_entry_renders_and_differs_from_the_recipe() {
                 s(&wav),
             ],
         );
-        common::read_wav(&wav).1
+        wav::read_wav(&wav).1
     };
     let a = render(&recipe, "recipe.wav");
     let b = render(&fitted, "fitted.wav");
@@ -183,7 +182,7 @@ fn a_preset_with_an_object_entry_renders_and_differs_from_the_recipe() {
     // --object on the recipe preset gives exactly the preset's object.
     let obj = write_object(&d, "o.object.json", &object_json(48_000.0));
     let wav = d.join("flag.wav");
-    common::ok(
+    cli::ok(
         &d,
         &[
             "render",
@@ -200,11 +199,11 @@ fn a_preset_with_an_object_entry_renders_and_differs_from_the_recipe() {
             s(&wav),
         ],
     );
-    assert_eq!(common::read_wav(&wav).1, b);
+    assert_eq!(wav::read_wav(&wav).1, b);
     // The built-in fitted presets render.
     for name in ["marble-in-agogo-bell", "ball-on-cowbell"] {
         let wav = d.join(format!("{name}.wav"));
-        let out = common::ok(
+        let out = cli::ok(
             &d,
             &["render", "--preset", name, "--seconds", "1", "-o", s(&wav)],
         );
@@ -217,9 +216,9 @@ fn bad_object_files_are_refused_with_exit_code_2_naming_the_file() {
     let d = scratch("bad");
     let wav = d.join("x.wav");
     let expect = |args: &[&str], needles: &[&str]| {
-        let o = common::run(&d, args);
-        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", common::stderr(&o));
-        let e = common::stderr(&o);
+        let o = cli::run(&d, args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", cli::stderr(&o));
+        let e = cli::stderr(&o);
         for n in needles {
             assert!(e.contains(n), "{args:?}: {e} lacks {n}");
         }
@@ -269,65 +268,6 @@ fn bad_object_files_are_refused_with_exit_code_2_naming_the_file() {
     );
 }
 
-/// Where Debian's `hydrogen-drumkits` installs its kits.
-const KITS: &str = "/usr/share/hydrogen/data/drumkits";
-
-/// Energy per third-octave band (centres 1000·2^{k/3}, 50 Hz … 16 kHz) of `x`, dB, the last
-/// 30 % faded out (a decay cut mid-ring leaks differently for every phase at the cut).
-fn third_octaves(x: &[f64], fs: f64) -> Vec<f64> {
-    use realfft::RealFftPlanner;
-    let n = x.len().next_power_of_two();
-    let start = x.len() * 7 / 10;
-    let mut planner = RealFftPlanner::<f64>::new();
-    let fft = planner.plan_fft_forward(n);
-    let mut buf = fft.make_input_vec();
-    for (i, v) in x.iter().enumerate() {
-        let w = if i < start {
-            1.0
-        } else {
-            let u = (i - start) as f64 / (x.len() - start) as f64;
-            0.5 * (1.0 + (std::f64::consts::PI * u).cos())
-        };
-        buf[i] = v * w;
-    }
-    let mut spec = fft.make_output_vec();
-    fft.process(&mut buf, &mut spec).unwrap();
-    let bin = fs / n as f64;
-    (-13..=12)
-        .map(|k| {
-            let c = 1000.0 * 2f64.powf(f64::from(k) / 3.0);
-            let (lo, hi) = (c * 2f64.powf(-1.0 / 6.0), c * 2f64.powf(1.0 / 6.0));
-            let e: f64 = spec
-                .iter()
-                .enumerate()
-                .filter(|(i, _)| (lo..hi).contains(&(*i as f64 * bin)))
-                .map(|(_, v)| v.norm_sqr())
-                .sum();
-            10.0 * e.max(1e-30).log10()
-        })
-        .collect()
-}
-
-fn third_octave_distance(a: &[f64], b: &[f64], fs: f64) -> f64 {
-    let (sa, sb) = (third_octaves(a, fs), third_octaves(b, fs));
-    // OBJECT_BANDS=1 prints the bands (recording, played, difference) for a diagnosis.
-    if std::env::var("OBJECT_BANDS").is_ok() {
-        for (i, (x, y)) in sa.iter().zip(&sb).enumerate() {
-            println!(
-                "  {:8.0} {x:7.1} {y:7.1} {:+6.1}",
-                1000.0 * 2f64.powf((i as f64 - 13.0) / 3.0),
-                y - x
-            );
-        }
-    }
-    (sa.iter()
-        .zip(&sb)
-        .map(|(x, y)| (x - y).powi(2))
-        .sum::<f64>()
-        / sa.len() as f64)
-        .sqrt()
-}
-
 /// Real strikes (Debian's `hydrogen-drumkits`): the recording's decay against the fitted
 /// object's impulse response, third-octave distance 50 Hz – 16 kHz, with and without the
 /// band part, and against the modes with their own phases (what the bank cannot play).
@@ -336,20 +276,17 @@ fn third_octave_distance(a: &[f64], b: &[f64], fs: f64) -> f64 {
 /// below them (+17 … +23 dB at 500–630 Hz) that the band part, which only adds, cannot
 /// take away.
 #[test]
+#[ignore = "needs Debian's hydrogen-drumkits (apt-get install hydrogen-drumkits)"]
 fn real_strikes_are_reproduced_by_the_fitted_object() {
     use std::sync::Arc;
     use trundle_dsp::fit::{fit_strike, resynthesize};
     use trundle_dsp::object::fitted::{LoadedObject, ObjectFile};
     use trundle_dsp::scene::impulse::impulse_response;
-    if !Path::new(KITS).is_dir() {
-        println!("SKIPPED: {KITS} not found — install Debian's hydrogen-drumkits");
-        return;
-    }
     for file in [
         "ForzeeStereo/AgogoLow-0.wav",
         "ForzeeStereo/AgogoHigh-0.wav",
     ] {
-        let (spec, x) = common::read_wav(&Path::new(KITS).join(file));
+        let (spec, x) = wav::read_wav(&hydrogen_kit_file(file));
         let ch = usize::from(spec.channels);
         let mono: Vec<f64> = x
             .chunks(ch)
@@ -375,9 +312,9 @@ fn real_strikes_are_reproduced_by_the_fitted_object() {
         };
         let (pw, pn) = (play(true), play(false));
         let model = resynthesize(&fit.modes, fs, n);
-        let with = third_octave_distance(decay, &pw, fs);
-        let without = third_octave_distance(decay, &pn, fs);
-        let exact = third_octave_distance(decay, &model, fs);
+        let with = third_octave_distance_db(decay, &pw, fs);
+        let without = third_octave_distance_db(decay, &pn, fs);
+        let exact = third_octave_distance_db(decay, &model, fs);
         let lsd = |y: &[f64]| trundle_dsp::fit::log_spectral_distance_db(decay, y, fs);
         println!(
             "{file}: third-octave distance {with:.2} dB with the band part, {without:.2} dB modes only ({exact:.2} dB the modes with their own phases); log-spectral distance (per bin) {:.1} / {:.1} / {:.1} dB",

@@ -5,35 +5,14 @@
 
 use std::f64::consts::TAU;
 use std::fs;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-mod common;
-use common::{json, ok, run, stderr};
-
-fn scratch(name: &str) -> PathBuf {
-    common::scratch("trundle-spectrum-tests", name)
-}
-
-/// Write a 24-bit WAV whose channel c, frame i is `f(c, i)`.
-fn write_wav(path: &Path, rate: u32, channels: u16, frames: usize, f: impl Fn(u16, usize) -> f64) {
-    let spec = hound::WavSpec {
-        channels,
-        sample_rate: rate,
-        bits_per_sample: 24,
-        sample_format: hound::SampleFormat::Int,
-    };
-    let mut w = hound::WavWriter::create(path, spec).unwrap();
-    for i in 0..frames {
-        for c in 0..channels {
-            w.write_sample((f(c, i) * 8_388_607.0).round() as i32)
-                .unwrap();
-        }
-    }
-    w.finalize().unwrap();
-}
+use trundle_test_support::cli::{json, ok, run, stderr};
+use trundle_test_support::scratch::scratch;
+use trundle_test_support::wav::write_wav_with;
 
 fn sine(path: &Path, rate: u32, hz: f64, amplitude: f64) {
-    write_wav(path, rate, 1, rate as usize * 2, |_, i| {
+    write_wav_with(path, rate, 1, rate as usize * 2, |_, i| {
         amplitude * (TAU * hz * i as f64 / f64::from(rate)).sin()
     });
 }
@@ -83,7 +62,7 @@ fn a_sine_lands_in_its_third_octave_band() {
 fn a_stereo_file_is_analysed_as_its_mono_mix() {
     let d = scratch("stereo");
     // L: 250 Hz, R: 5 kHz at a quarter of the amplitude → the mix has both, 12 dB apart.
-    write_wav(&d.join("st.wav"), 48_000, 2, 96_000, |c, i| {
+    write_wav_with(&d.join("st.wav"), 48_000, 2, 96_000, |c, i| {
         let t = i as f64 / 48_000.0;
         if c == 0 {
             0.8 * (TAU * 250.0 * t).sin()
@@ -185,9 +164,9 @@ fn bad_input_exits_2_with_one_line() {
     let d = scratch("bad");
     sine(&d.join("ok.wav"), 48_000, 1000.0, 0.5);
     fs::write(d.join("text.wav"), "not audio at all").unwrap();
-    write_wav(&d.join("silent.wav"), 48_000, 1, 48_000, |_, _| 0.0);
+    write_wav_with(&d.join("silent.wav"), 48_000, 1, 48_000, |_, _| 0.0);
     // L = −R: the mono mix cancels.
-    write_wav(&d.join("cancel.wav"), 48_000, 2, 48_000, |c, i| {
+    write_wav_with(&d.join("cancel.wav"), 48_000, 2, 48_000, |c, i| {
         let s = 0.5 * (TAU * 440.0 * i as f64 / 48_000.0).sin();
         if c == 0 {
             s

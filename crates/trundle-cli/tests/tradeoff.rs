@@ -6,8 +6,7 @@
 use std::path::Path;
 use std::process::Command;
 
-mod common;
-use common::BIN;
+use trundle_test_support::cli::bin;
 
 #[test]
 fn tradeoff_json_has_cost_and_both_distances_for_every_row() {
@@ -15,7 +14,7 @@ fn tradeoff_json_has_cost_and_both_distances_for_every_row() {
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let png = dir.join("t.png");
-    let o = Command::new(BIN)
+    let o = Command::new(bin())
         .args(["tradeoff", "--seconds", "1", "--json", "--plot"])
         .arg(&png)
         .output()
@@ -58,7 +57,7 @@ fn tradeoff_json_has_cost_and_both_distances_for_every_row() {
 
 #[test]
 fn tradeoff_refuses_a_scene_too_short_for_statistics() {
-    let o = Command::new(BIN)
+    let o = Command::new(bin())
         .args(["tradeoff", "--seconds", "0.01"])
         .output()
         .unwrap();

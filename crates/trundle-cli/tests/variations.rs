@@ -1,16 +1,14 @@
 //! `trundle render --variations N`: N distinct takes, loudness-matched, deterministic, with
 //! a manifest that says what each take is.
 
-mod common;
-use common::{ok, read_wav, run, scratch, stderr};
-
-fn rms_db(x: &[f64]) -> f64 {
-    10.0 * (x.iter().map(|s| s * s).sum::<f64>() / x.len() as f64).log10()
-}
+use trundle_test_support::cli::{ok, run, stderr};
+use trundle_test_support::levels::rms_db;
+use trundle_test_support::scratch::scratch;
+use trundle_test_support::wav::read_wav;
 
 #[test]
 fn takes_differ_match_in_loudness_and_repeat_exactly() {
-    let dir = scratch("variations", "takes");
+    let dir = scratch("takes");
     let args = [
         "render",
         "--variations",
@@ -67,7 +65,7 @@ fn takes_differ_match_in_loudness_and_repeat_exactly() {
         assert!((0.35 - 1e-6..=0.65 + 1e-6).contains(&v), "velocity {v}");
     }
     // The same command again: the same samples.
-    let again = scratch("variations", "again");
+    let again = scratch("again");
     ok(&again, &args);
     for n in 1..=5 {
         let name = format!("roll-{n}.wav");
@@ -77,7 +75,7 @@ fn takes_differ_match_in_loudness_and_repeat_exactly() {
 
 #[test]
 fn bad_variations_are_refused_clearly() {
-    let dir = scratch("variations", "bad");
+    let dir = scratch("bad");
     for (args, needle) in [
         (vec!["--variations", "0"], "whole number"),
         (

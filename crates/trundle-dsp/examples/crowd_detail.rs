@@ -5,12 +5,13 @@
 //! rendered with every ball a whole source (the reference: `Crowd::new` with room for all
 //! of them) and at `crowd_detail` 0, 4, 8 and 16; it prints the cost (ns per output sample of
 //! the crowd's force alone, best of three) and the worst third-octave difference from the
-//! reference, 100 Hz–12.5 kHz (dB).
+//! reference, 100 Hz–12.5 kHz (dB; the tests' band measure, `trundle_test_support::bands`).
 
 use std::time::Instant;
 use trundle_dsp::block::CHUNK;
 use trundle_dsp::scene::crowd::{Crowd, CrowdControls};
 use trundle_dsp::source::chain::SourceControls;
+use trundle_test_support::bands::third_octave_db_between;
 
 const FS: f64 = 48_000.0;
 const SECONDS: f64 = 10.0;
@@ -43,44 +44,12 @@ fn render(count: usize, detail: usize, max_detail: usize) -> (Vec<f32>, f64) {
     (y, best)
 }
 
-fn third_octaves(y: &[f32]) -> Vec<f64> {
-    use realfft::RealFftPlanner;
-    let n = 4096;
-    let fft = RealFftPlanner::<f64>::new().plan_fft_forward(n);
-    let mut power = vec![0.0; n / 2 + 1];
-    for w in y.chunks_exact(n) {
-        let mut buf: Vec<f64> = w
-            .iter()
-            .enumerate()
-            .map(|(i, &x)| {
-                let h = 0.5 - 0.5 * (2.0 * std::f64::consts::PI * i as f64 / n as f64).cos();
-                f64::from(x) * h
-            })
-            .collect();
-        let mut spec = fft.make_output_vec();
-        fft.process(&mut buf, &mut spec).unwrap();
-        for (p, z) in power.iter_mut().zip(&spec) {
-            *p += z.norm_sqr();
-        }
-    }
-    (0..=21)
-        .map(|k| {
-            let fc = 100.0 * 2f64.powf(k as f64 / 3.0);
-            let (lo, hi) = (fc * 2f64.powf(-1.0 / 6.0), fc * 2f64.powf(1.0 / 6.0));
-            let (sum, count) = (0..power.len())
-                .filter(|&i| (lo..hi).contains(&(i as f64 * FS / n as f64)))
-                .fold((0.0, 0), |(s, c), i| (s + power[i], c + 1));
-            10.0 * (sum / f64::from(count.max(1))).log10()
-        })
-        .collect()
-}
-
 fn main() {
     println!("| balls | crowd_detail | ns/sample (crowd force) | × real time | worst third-octave difference (dB) |");
     println!("|---:|---:|---:|---:|---:|");
     for count in [64, 1000] {
         let (reference, ref_ns) = render(count, count - 1, count - 1);
-        let bands = third_octaves(&reference);
+        let bands = third_octave_db_between(&reference, FS, 100.0, 12_500.0);
         println!(
             "| {count} | all ({}) | {ref_ns:.0} | {:.1} | 0 (reference) |",
             count - 1,
@@ -90,7 +59,7 @@ fn main() {
             let (y, ns) = render(count, detail, 16);
             let worst = bands
                 .iter()
-                .zip(third_octaves(&y))
+                .zip(third_octave_db_between(&y, FS, 100.0, 12_500.0))
                 .map(|(a, b)| (a - b).abs())
                 .fold(0.0, f64::max);
             println!(

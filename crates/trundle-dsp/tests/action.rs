@@ -16,8 +16,7 @@ use trundle_dsp::source::prototype::{ActionParams, SCRATCH_MEAN_INTERVAL_S};
 use trundle_dsp::object::disk;
 use trundle_dsp::{ImpactRecord, ParamId, Params, Voice};
 
-mod common;
-use common::allocations_during;
+use trundle_test_support::alloc_guard::allocations_during;
 
 const FS: f64 = 48_000.0;
 

@@ -5,8 +5,7 @@
 use trundle_dsp::scene::balls::{BallId, BallTarget, Expression};
 use trundle_dsp::{ParamId, Params, Voice};
 
-mod common;
-use common::allocations_during;
+use trundle_test_support::alloc_guard::allocations_during;
 
 /// 16 marbles spilled one after another (every 50 ms), rolling 2 s, then stopping. Note
 /// events happen at exact sample positions, the host blocks (of `block` samples) being split

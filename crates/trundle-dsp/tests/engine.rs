@@ -3,8 +3,8 @@
 
 use trundle_dsp::{ParamId, Params, Voice};
 
-mod common;
-use common::allocations_during;
+use trundle_test_support::alloc_guard::allocations_during;
+use trundle_test_support::scene::render_frames;
 
 fn params(set: &[(ParamId, f64)]) -> Params {
     let mut p = Params::default();
@@ -14,22 +14,13 @@ fn params(set: &[(ParamId, f64)]) -> Params {
     p
 }
 
-fn render(fs: f64, p: &Params, n: usize, block: usize) -> Vec<f32> {
-    let mut v = Voice::new(fs, p);
-    let mut out = vec![0f32; n];
-    for chunk in out.chunks_mut(block.max(1)) {
-        v.process(chunk);
-    }
-    out
-}
-
 #[test]
 fn same_seed_same_samples_whatever_the_block_size() {
     let p = Params::default();
-    let reference = render(48_000.0, &p, 48_000, 64);
+    let reference = render_frames(48_000.0, &p, 48_000, 64);
     for block in [1, 7, 63, 64, 65, 1000, 4096, 8192] {
         assert_eq!(
-            render(48_000.0, &p, 48_000, block),
+            render_frames(48_000.0, &p, 48_000, block),
             reference,
             "block {block}"
         );
@@ -61,7 +52,7 @@ fn reset_reproduces_and_the_seed_matters() {
     let mut b = vec![0f32; 20_000];
     v.process(&mut b);
     assert_eq!(a, b);
-    let other = render(48_000.0, &params(&[(ParamId::Seed, 2.0)]), 20_000, 512);
+    let other = render_frames(48_000.0, &params(&[(ParamId::Seed, 2.0)]), 20_000, 512);
     assert_ne!(a, other);
     // Changing the seed through set_params on a running voice equals a fresh voice with
     // that seed only after reset (the seed restarts the series, the object keeps ringing).
@@ -75,9 +66,9 @@ fn reset_reproduces_and_the_seed_matters() {
 
 #[test]
 fn a_ball_at_rest_is_silent_and_moving_ball_is_not() {
-    let still = render(48_000.0, &params(&[(ParamId::Velocity, 0.0)]), 48_000, 512);
+    let still = render_frames(48_000.0, &params(&[(ParamId::Velocity, 0.0)]), 48_000, 512);
     assert!(still.iter().all(|&x| x == 0.0));
-    let moving = render(48_000.0, &params(&[(ParamId::Velocity, 0.05)]), 48_000, 512);
+    let moving = render_frames(48_000.0, &params(&[(ParamId::Velocity, 0.05)]), 48_000, 512);
     assert!(moving.iter().any(|&x| x.abs() > 1e-4));
 }
 
@@ -109,7 +100,7 @@ fn stable_and_bounded_at_the_extremes() {
                         let n = (fs * 0.25) as usize;
                         let mut first: Option<Vec<f32>> = None;
                         for block in [1, 8192] {
-                            let out = render(fs, &p, n, block);
+                            let out = render_frames(fs, &p, n, block);
                             // Determinism at the extremes too: blocks of 1 and of 8192 give
                             // the very same samples.
                             match &first {
@@ -239,7 +230,7 @@ fn automation_is_click_free() {
     // its largest random peak to be comparable).
     let mut worst_static = 0f32;
     for k in 0..=20 {
-        let out = render(fs, &scene(k as f64 / 20.0), 48_000, 480);
+        let out = render_frames(fs, &scene(k as f64 / 20.0), 48_000, 480);
         for w in out.windows(2) {
             worst_static = worst_static.max((w[1] - w[0]).abs());
         }

@@ -7,8 +7,8 @@ use trundle_dsp::physics::mapping::ENGINE_CROSSFADE_S;
 use trundle_dsp::{ParamId, Params, Voice};
 
 // Allocation counter (per thread, so parallel tests do not disturb each other).
-mod common;
-use common::allocations;
+use trundle_test_support::alloc_guard::allocations;
+use trundle_test_support::scene::render;
 
 const FS: f64 = 48_000.0;
 
@@ -21,14 +21,7 @@ fn params(engine: f64, force: bool, seed: f64) -> Params {
     p
 }
 
-fn render(p: &Params, seconds: f64) -> Vec<f32> {
-    let mut v = Voice::new(FS, p);
-    let mut out = vec![0.0f32; (seconds * FS) as usize];
-    v.process(&mut out);
-    out
-}
-
-/// As [`render`] with the physics engine's level match off (its force at the fixed
+/// As [`render`](trundle_test_support::scene::render) with the physics engine's level match off (its force at the fixed
 /// calibration): the physics force then depends on nothing but its own controls.
 fn render_unmatched(p: &Params, seconds: f64) -> Vec<f32> {
     let mut v = Voice::new(FS, p);

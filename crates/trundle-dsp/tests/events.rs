@@ -10,8 +10,7 @@ use trundle_dsp::block::CHUNK;
 use trundle_dsp::scene::events::{process_with_events, TimedEvent, VoiceEvent};
 use trundle_dsp::{ParamId, Params, Voice};
 
-mod common;
-use common::allocations_during;
+use trundle_test_support::alloc_guard::allocations_during;
 
 const FS: f64 = 48_000.0;
 

@@ -23,6 +23,7 @@ use trundle_dsp::object::quality::Quality;
 use trundle_dsp::params::ParamEnum;
 use trundle_dsp::scene::impulse::impulse_response;
 use trundle_dsp::{ParamId, Params};
+use trundle_test_support::bands::third_octave_distance_db;
 
 fn cents(a: f64, b: f64) -> f64 {
     1200.0 * (a / b).log2()
@@ -140,66 +141,6 @@ fn an_impulse_render_gives_the_same_modes_back_at_any_rate() {
     }
 }
 
-/// Energy per third-octave band (centres 1000·2^{k/3}, 50 Hz … 16 kHz) of `x`, dB.
-fn third_octaves(x: &[f64], fs: f64) -> Vec<f64> {
-    use realfft::RealFftPlanner;
-    let n = x.len().next_power_of_two();
-    let mut planner = RealFftPlanner::<f64>::new();
-    let fft = planner.plan_fft_forward(n);
-    let mut buf = fft.make_input_vec();
-    buf[..x.len()].copy_from_slice(x);
-    let mut spec = fft.make_output_vec();
-    fft.process(&mut buf, &mut spec).unwrap();
-    let bin = fs / n as f64;
-    (-13..=12)
-        .map(|k| {
-            let c = 1000.0 * 2f64.powf(f64::from(k) / 3.0);
-            let (lo, hi) = (c * 2f64.powf(-1.0 / 6.0), c * 2f64.powf(1.0 / 6.0));
-            let e: f64 = spec
-                .iter()
-                .enumerate()
-                .filter(|(i, _)| (lo..hi).contains(&(*i as f64 * bin)))
-                .map(|(_, v)| v.norm_sqr())
-                .sum();
-            10.0 * e.max(1e-30).log10()
-        })
-        .collect()
-}
-
-/// The last 30 % faded out (half Hann): a decay cut off mid-ring leaks energy over the
-/// whole spectrum, differently for every phase at the cut.
-fn taper(x: &[f64]) -> Vec<f64> {
-    let n = x.len();
-    let start = n * 7 / 10;
-    x.iter()
-        .enumerate()
-        .map(|(i, &v)| {
-            if i < start {
-                v
-            } else {
-                let u = (i - start) as f64 / (n - start) as f64;
-                v * 0.5 * (1.0 + (core::f64::consts::PI * u).cos())
-            }
-        })
-        .collect()
-}
-
-/// RMS difference (dB) of the third-octave spectra of `a` and `b` (both tapered).
-fn third_octave_distance(a: &[f64], b: &[f64], fs: f64) -> f64 {
-    let (sa, sb) = (third_octaves(&taper(a), fs), third_octaves(&taper(b), fs));
-    if std::env::var("FITTED_BANDS").is_ok() {
-        for (x, y) in sa.iter().zip(&sb) {
-            println!("  {x:7.1} {y:7.1} {:+6.1}", y - x);
-        }
-    }
-    (sa.iter()
-        .zip(&sb)
-        .map(|(x, y)| (x - y).powi(2))
-        .sum::<f64>()
-        / sa.len() as f64)
-        .sqrt()
-}
-
 /// A strike: modes plus a decaying burst of noise (τ = 8 ms) that no mode explains.
 fn synthetic_strike(fs: f64) -> Vec<f64> {
     let t = truth(fs);
@@ -245,9 +186,9 @@ fn the_impulse_response_reproduces_a_strike_and_the_band_part_carries_its_noise(
         mono(&l, &r)
     };
     let exact = trundle_dsp::fit::resynthesize(&fit.modes, fs, len);
-    let d_exact = third_octave_distance(decay, &exact, fs);
-    let d_with = third_octave_distance(decay, &with, fs);
-    let d_without = third_octave_distance(decay, &without, fs);
+    let d_exact = third_octave_distance_db(decay, &exact, fs);
+    let d_with = third_octave_distance_db(decay, &with, fs);
+    let d_without = third_octave_distance_db(decay, &without, fs);
     println!(
         "strike vs impulse response, third-octave distance 50 Hz–16 kHz: {d_with:.2} dB with the band part, {d_without:.2} dB modes only (the modes with their fitted phases: {d_exact:.2} dB; {} modes, {} envelope bands)",
         fit.modes.len(),

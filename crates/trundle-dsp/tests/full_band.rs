@@ -16,12 +16,11 @@
 //! velocity low-pass: issue #17's contact model), not the object's.
 
 use realfft::RealFftPlanner;
-mod scene;
-use scene::render_scene;
 use trundle_dsp::object::quality::Quality;
 use trundle_dsp::params::ParamEnum;
 use trundle_dsp::scene::preset::{Preset, BUILTIN_PRESETS};
 use trundle_dsp::{ParamId, Params, Voice};
+use trundle_test_support::scene::render_scene;
 
 const FS: f64 = 48_000.0;
 const SECONDS: f64 = 6.0;

@@ -7,7 +7,7 @@ use trundle_dsp::scene::gesture::{first_impact_s, impact_speed, GRAVITY_M_S2};
 use trundle_dsp::source::chain::ImpactRecord;
 use trundle_dsp::{ParamId, Params, Voice};
 
-mod common;
+use trundle_test_support::alloc_guard;
 
 const FS: f64 = 48_000.0;
 
@@ -308,7 +308,7 @@ fn gestures_do_not_allocate() {
         let mut y = vec![0f32; 1000];
         let mut l = vec![0f32; 1000];
         let mut r = vec![0f32; 1000];
-        let n = common::allocations_during(|| {
+        let n = alloc_guard::allocations_during(|| {
             for _ in 0..100 {
                 v.process(&mut y);
                 v.process_stereo(&mut l, &mut r);
@@ -506,7 +506,7 @@ fn a_note_drops_a_ball_in_a_drop_scene() {
     );
     // Nothing allocates when a note drops a ball.
     v.reset();
-    let n = common::allocations_during(|| {
+    let n = alloc_guard::allocations_during(|| {
         v.note_on(64, 0.9);
         v.process(&mut y);
     });

@@ -5,10 +5,9 @@
 
 use trundle_dsp::scene::events::{process_stereo_with_events, TimedEvent, VoiceEvent};
 
-mod scene;
-use scene::render_scene;
 use trundle_dsp::scene::preset::{Preset, BUILTIN_PRESETS};
 use trundle_dsp::{Params, Voice};
+use trundle_test_support::scene::render_scene;
 
 const FS: f64 = 48_000.0;
 

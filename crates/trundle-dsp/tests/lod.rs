@@ -7,6 +7,7 @@ use trundle_dsp::object::quality::Quality;
 use trundle_dsp::object::resonator::{Object, ObjectControls};
 use trundle_dsp::object::shape::Shape;
 use trundle_dsp::{ParamId, Params, Voice};
+use trundle_test_support::scene::render_voice;
 
 const FS: f64 = 48_000.0;
 
@@ -15,14 +16,6 @@ fn params(modes: usize, quality: &str) -> Params {
     p.set(ParamId::Modes, modes as f64).unwrap();
     p.set_text("quality", quality).unwrap();
     p
-}
-
-fn render(v: &mut Voice, seconds: f64) -> Vec<f32> {
-    let mut y = vec![0.0f32; (seconds * FS) as usize];
-    for b in y.chunks_mut(512) {
-        v.process(b);
-    }
-    y
 }
 
 fn max_jump(y: &[f32]) -> f32 {
@@ -41,8 +34,8 @@ fn rms(y: &[f32]) -> f64 {
 #[test]
 fn changing_the_quality_does_not_click() {
     let seconds = 3.0;
-    let hi = render(&mut Voice::new(FS, &params(128, "high")), seconds);
-    let dr = render(&mut Voice::new(FS, &params(128, "draft")), seconds);
+    let hi = render_voice(&mut Voice::new(FS, &params(128, "high")), seconds, 512);
+    let dr = render_voice(&mut Voice::new(FS, &params(128, "draft")), seconds, 512);
     let bound = max_jump(&hi).max(max_jump(&dr));
     let peak = hi.iter().fold(0.0f32, |m, v| m.max(v.abs()));
     assert!(bound < 0.5 * peak, "static signal too rough for the test");
@@ -52,7 +45,7 @@ fn changing_the_quality_does_not_click() {
     for i in 0..12 {
         let q = if i % 2 == 0 { "high" } else { "draft" };
         v.set_params(&params(128, q));
-        y.extend(render(&mut v, seconds / 12.0));
+        y.extend(render_voice(&mut v, seconds / 12.0, 512));
     }
     let jump = max_jump(&y);
     assert!(
@@ -90,7 +83,7 @@ fn wide_object() -> Object {
 fn force() -> Vec<f32> {
     let mut p = Params::default();
     p.set_text("output", "force").unwrap();
-    render(&mut Voice::new(FS, &p), 2.0)
+    render_voice(&mut Voice::new(FS, &p), 2.0, 512)
 }
 
 fn run_object(
@@ -183,9 +176,9 @@ fn culling_keeps_the_output_close_to_the_unculled_output() {
 fn a_silent_voice_does_no_mode_work() {
     let p = params(32, "high");
     let mut v = Voice::new(FS, &p);
-    render(&mut v, 0.5);
+    render_voice(&mut v, 0.5, 512);
     let before = v.object().mode_samples();
-    render(&mut v, 1.0);
+    render_voice(&mut v, 1.0, 512);
     let active = v.object().mode_samples() - before;
     assert!(active >= 32 * 48_000, "active voice counted {active}");
 
@@ -194,13 +187,13 @@ fn a_silent_voice_does_no_mode_work() {
     v.set_params(&still);
     let mut waited = 0.0;
     while !(v.source().at_rest() && v.object().is_silent()) {
-        render(&mut v, 0.5);
+        render_voice(&mut v, 0.5, 512);
         waited += 0.5;
         assert!(waited < 120.0, "the object never rang out");
     }
-    render(&mut v, 0.1);
+    render_voice(&mut v, 0.1, 512);
     let before = v.object().mode_samples();
-    let y = render(&mut v, 1.0);
+    let y = render_voice(&mut v, 1.0, 512);
     let idle = v.object().mode_samples() - before;
     assert!(
         (idle as f64) < 0.05 * active as f64,
@@ -210,7 +203,7 @@ fn a_silent_voice_does_no_mode_work() {
 
     // Rolling again resumes at once.
     v.set_params(&p);
-    let y = render(&mut v, 0.5);
+    let y = render_voice(&mut v, 0.5, 512);
     assert!(rms(&y) > 1e-4, "no sound after the ball restarted");
     assert_eq!(p.quality(), Quality::High);
 }

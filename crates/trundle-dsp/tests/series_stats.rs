@@ -12,6 +12,7 @@ use trundle_dsp::analysis::impacts::{
 };
 use trundle_dsp::source::series::{Arma11, SeriesParams};
 use trundle_dsp::{ParamId, Params, Voice};
+use trundle_test_support::scene::render_at;
 
 const FS: f64 = 96_000.0;
 
@@ -27,13 +28,6 @@ fn force_params(set: &[(ParamId, f64)]) -> Params {
         p.set(id, v).unwrap();
     }
     p
-}
-
-fn render(p: &Params, seconds: f64) -> Vec<f32> {
-    let mut v = Voice::new(FS, p);
-    let mut out = vec![0f32; (seconds * FS) as usize];
-    v.process(&mut out);
-    out
 }
 
 /// The series amplitude per unit of force peak at V = 1: the pulse keeps its area under the
@@ -88,7 +82,7 @@ fn rendered_force_recovers_table_i() {
     for &rho in &[0.0, 0.5, 1.0] {
         let set = SeriesParams::table_i(rho);
         let p = force_params(&[(ParamId::Roughness, rho)]);
-        let force = render(&p, 120.0);
+        let force = render_at(FS, &p, 120.0);
         // Threshold at half the floor amplitude: every emitted impact is above it.
         let impacts = extract_impacts(&force, FS, 0.005);
         // The pulses keep their area under the ball's contact (`trundle_dsp::source::contact`): a
@@ -222,7 +216,7 @@ fn extracted_impacts_match_the_reported_ones() {
 fn pulse_durations_follow_the_t0_law() {
     for &size in &[0.3, 1.0] {
         let p = force_params(&[(ParamId::Size, size), (ParamId::Roughness, 0.0)]);
-        let force = render(&p, 30.0);
+        let force = render_at(FS, &p, 30.0);
         let impacts = extract_impacts(&force, FS, 0.005);
         // Keep isolated impacts: overlapping pulses widen the measured width.
         let isolated: Vec<_> = impacts

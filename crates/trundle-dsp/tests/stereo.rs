@@ -7,16 +7,10 @@ use trundle_dsp::object::quality::Quality;
 use trundle_dsp::object::resonator::{pickups, Object, ObjectControls};
 use trundle_dsp::object::shape::{unit_coordinate, Shape, ShapeTables};
 use trundle_dsp::{ParamId, Params, Voice};
+use trundle_test_support::bands::{centres_hz, third_octave_energy};
+use trundle_test_support::scene::render_stereo;
 
 const FS: f64 = 48_000.0;
-
-fn render(params: &Params, seconds: f64) -> (Vec<f32>, Vec<f32>) {
-    let mut v = Voice::new(FS, params);
-    let n = (seconds * FS) as usize;
-    let (mut l, mut r) = (vec![0f32; n], vec![0f32; n]);
-    v.process_stereo(&mut l, &mut r);
-    (l, r)
-}
 
 fn power(x: &[f32]) -> f64 {
     x.iter().map(|&v| f64::from(v).powi(2)).sum::<f64>() / x.len() as f64
@@ -115,7 +109,7 @@ fn the_ball_moves_the_image() {
         p.set(ParamId::PositionX, x).unwrap();
         p.set(ParamId::PositionY, y).unwrap();
         p.set(ParamId::Width, 1.0).unwrap();
-        let (l, r) = render(&p, 3.0);
+        let (l, r) = render_stereo(&p, 3.0);
         let db = 10.0 * (power(&l) / power(&r)).log10();
         println!(
             "ball at ({x}, {y}): L − R = {db:+.2} dB, correlation {:.3}",
@@ -137,7 +131,7 @@ fn the_ball_moves_the_image() {
 /// default scene's L/R correlation lies between 0.2 and 0.97.
 #[test]
 fn the_sum_is_mono_compatible_and_the_default_is_wide_but_related() {
-    let (l, r) = render(&Params::default(), 4.0);
+    let (l, r) = render_stereo(&Params::default(), 4.0);
     let corr = correlation(&l, &r);
     println!("default scene: L/R correlation {corr:.3}");
     assert!((0.2..=0.97).contains(&corr), "correlation {corr}");
@@ -153,13 +147,14 @@ fn the_sum_is_mono_compatible_and_the_default_is_wide_but_related() {
         p.set_variant(shape);
         p.set(ParamId::Width, width).unwrap();
         p.set(ParamId::Velocity, 0.9).unwrap();
-        let (l, r) = render(&p, 3.0);
+        let (l, r) = render_stereo(&p, 3.0);
         let sum: Vec<f32> = l.iter().zip(&r).map(|(a, b)| a + b).collect();
-        let worst = band_powers(&sum)
+        let bands = |x: &[f32]| third_octave_energy(x, FS);
+        let worst = centres_hz()
             .iter()
-            .zip(band_powers(&l).iter().zip(band_powers(&r)))
-            .filter(|(b, _)| b.0 > 200.0)
-            .map(|(s, (a, b))| 10.0 * (s.1 / (a.1 + b.1)).log10())
+            .zip(bands(&sum).iter().zip(bands(&l).iter().zip(bands(&r))))
+            .filter(|(centre_hz, _)| **centre_hz > 200.0)
+            .map(|(_, (s, (a, b)))| 10.0 * (s / (a + b)).log10())
             .fold(f64::MAX, f64::min);
         println!("{shape:?} width {width}: worst band L+R vs L²+R² {worst:+.2} dB");
         assert!(worst > -6.0, "{shape:?} width {width}: {worst} dB");
@@ -171,31 +166,9 @@ fn the_sum_is_mono_compatible_and_the_default_is_wide_but_related() {
 fn width_zero_is_mono() {
     let mut p = Params::default();
     p.set(ParamId::Width, 0.0).unwrap();
-    let (l, r) = render(&p, 1.0);
+    let (l, r) = render_stereo(&p, 1.0);
     assert_eq!(l, r);
     let mut mono = vec![0f32; l.len()];
     Voice::new(FS, &p).process(&mut mono);
     assert_eq!(mono, l);
-}
-
-/// (centre Hz, power) per third-octave band 50 Hz – 16 kHz, by FFT of the whole signal.
-fn band_powers(x: &[f32]) -> Vec<(f64, f64)> {
-    use realfft::RealFftPlanner;
-    let n = x.len().next_power_of_two();
-    let fft = RealFftPlanner::<f64>::new().plan_fft_forward(n);
-    let mut input: Vec<f64> = x.iter().map(|&v| f64::from(v)).collect();
-    input.resize(n, 0.0);
-    let mut out = fft.make_output_vec();
-    fft.process(&mut input, &mut out).unwrap();
-    let df = FS / n as f64;
-    (17..=42)
-        .map(|i| {
-            let fc = 10f64.powf(f64::from(i) / 10.0);
-            let (a, b) = (
-                (fc * 2f64.powf(-1.0 / 6.0) / df) as usize,
-                (fc * 2f64.powf(1.0 / 6.0) / df) as usize,
-            );
-            (fc, out[a..=b].iter().map(|c| c.norm_sqr()).sum())
-        })
-        .collect()
 }

@@ -7,18 +7,12 @@ use trundle_dsp::params::Output;
 use trundle_dsp::scene::events::{process_with_events, TimedEvent, VoiceEvent};
 use trundle_dsp::scene::stop::STOP_DECELERATION_M_S2;
 use trundle_dsp::{ParamId, Params, Voice};
+use trundle_test_support::scene::render;
 
 const FS: f64 = 48_000.0;
 
 fn db(x: f64) -> f64 {
     10.0 * x.max(1e-30).log10()
-}
-
-fn render(p: &Params, seconds: f64) -> Vec<f32> {
-    let mut v = Voice::new(FS, p);
-    let mut y = vec![0f32; (seconds * FS) as usize];
-    v.process(&mut y);
-    y
 }
 
 fn peak(x: &[f32]) -> f64 {

@@ -1,8 +1,9 @@
-//! Shared by the integration tests: the no-allocation guard.
+//! The no-allocation guard.
 //!
 //! A global allocator that counts, per thread (so tests running in parallel do not disturb
 //! each other), every allocation, reallocation and deallocation, then forwards it to the
-//! system allocator. Real-time code under test must leave the count unchanged.
+//! system allocator. Real-time code under test must leave the count unchanged. It is the
+//! global allocator of every test binary that links this crate.
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
@@ -17,6 +18,8 @@ fn bump() {
     let _ = COUNT.try_with(|c| c.set(c.get() + 1));
 }
 
+// SAFETY: every call is forwarded unchanged to the system allocator; counting touches only
+// a thread-local `Cell` (no allocation, `try_with` tolerates thread teardown).
 unsafe impl GlobalAlloc for Counting {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
         bump();
@@ -39,14 +42,12 @@ unsafe impl GlobalAlloc for Counting {
 static ALLOC: Counting = Counting;
 
 /// Allocations, reallocations and deallocations made by this thread so far.
-#[allow(dead_code)]
 pub fn allocations() -> usize {
     COUNT.with(|c| c.get())
 }
 
 /// Run `f` and return how many allocations, reallocations and deallocations it made on
 /// this thread.
-#[allow(dead_code)]
 pub fn allocations_during(f: impl FnOnce()) -> usize {
     let before = allocations();
     f();

@@ -1,0 +1,24 @@
+//! What Trundle's tests share, written once (issue #24): a dev-dependency of every test
+//! crate of the workspace, never of a library's own code.
+//!
+//! * [`scene`]: a voice's samples for some seconds of a scene, mono, stereo or a preset's
+//!   whole scene (lanes and ball notes).
+//! * [`bands`]: third-octave band levels and the distance between two spectra.
+//! * [`alloc_guard`]: the no-allocation guard (a counting global allocator).
+//! * [`scratch`]: scratch folders, removed when the test passes.
+//! * [`wav`]: WAV files written from and read back as samples at ±1 full scale.
+//! * [`stats`]: mean and deviation, a least-squares line.
+//! * [`levels`]: peak and RMS levels, channels of interleaved frames.
+//! * [`cli`]: the `trundle` binary, run in a folder, and what it printed.
+//! * [`data`]: data from outside the repository (the recordings of Debian's
+//!   hydrogen-drumkits), required by the tests marked `#[ignore = "needs …"]`.
+
+pub mod alloc_guard;
+pub mod bands;
+pub mod cli;
+pub mod data;
+pub mod levels;
+pub mod scene;
+pub mod scratch;
+pub mod stats;
+pub mod wav;
