@@ -69,7 +69,6 @@ pub mod fitted;
 
 use crate::material::Material;
 use crate::modal::{phasor_coeffs, LongBank, ModalBank, ModeCoeffs, LANES, LONG_MODE_SAMPLES};
-use crate::params::{ParamEnum, ParamId};
 use crate::shape::{PositionShapes, Shape, ShapeTables, MAX_MODES, REFERENCE_MODES};
 use crate::smooth::Smoother;
 use fitted::{LoadedObject, BANDS, BAND_MODES, SIDE_SPREAD, TILT_REF_HZ};
@@ -105,40 +104,7 @@ pub const LONG_MODES_MAX: usize = 64;
 /// No long slot.
 const NOT_LONG: u8 = u8::MAX;
 
-/// The accuracy/cost budget (the `quality` parameter): mode cap, high-band slots, culling
-/// threshold and the physics engine's oversampling.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub enum Quality {
-    /// At most 16 modes, 8 high-band slots, culling at −50 dB, physics RK4 at one step per
-    /// sample.
-    Draft,
-    /// At most 64 modes, 16 high-band slots, culling at −70 dB, automatic physics
-    /// oversampling.
-    Normal,
-    /// Every requested mode (≤ 256), 24 high-band slots, culling at −90 dB, automatic
-    /// physics oversampling.
-    #[default]
-    High,
-    /// Every requested mode, 48 high-band slots, no culling, physics RK4 at the maximum
-    /// oversampling.
-    Ultra,
-    /// Every mode of the shape's series below min(Nyquist, [`HIGH_BAND_TOP_HZ`]) explicitly
-    /// (up to [`REFERENCE_MODES`]), no high band, no culling: the judge the other qualities
-    /// are measured against. Offline only (thousands of modes).
-    Reference,
-}
-
-impl ParamEnum for Quality {
-    const VARIANTS: &'static [Self] = &[
-        Quality::Draft,
-        Quality::Normal,
-        Quality::High,
-        Quality::Ultra,
-        Quality::Reference,
-    ];
-    const NAMES: &'static [&'static str] = &["draft", "normal", "high", "ultra", "reference"];
-    const ID: ParamId = ParamId::Quality;
-}
+pub use crate::params::Quality;
 
 impl Quality {
     /// Largest number of explicit modes the object sounds.

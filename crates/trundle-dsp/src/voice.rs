@@ -99,7 +99,7 @@ fn source_controls(p: &Params) -> SourceControls {
         action_x: p.get(ParamId::ActionX),
         action_y: p.get(ParamId::ActionY),
         asymmetry_law: p.asymmetry_law(),
-        contact_scale: p.contact_scale(),
+        contact_scale: crate::contact::scene_contact_scale(p),
     }
 }
 

@@ -55,7 +55,8 @@
 use nice_plug::prelude::*;
 use std::sync::Arc;
 use trundle_dsp::events::{process_stereo_with_events, TimedEvent};
-use trundle_dsp::limiter::{Limiter, Limiting};
+use trundle_dsp::limiter::Limiter;
+use trundle_dsp::params::Limiting;
 use trundle_dsp::{ParamId, Voice};
 
 pub mod compare;

@@ -44,8 +44,7 @@ use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::Arc;
 use trundle_dsp::object::fitted::LoadedObject;
-use trundle_dsp::object::Quality;
-use trundle_dsp::params::{ParamEnum, ParamKind, ParamSpec, PARAMS};
+use trundle_dsp::params::{ParamEnum, ParamKind, ParamSpec, Quality, PARAMS};
 use trundle_dsp::ParamId;
 
 /// Version of the saved state (bumped when the meaning of a saved parameter or field
