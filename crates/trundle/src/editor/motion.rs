@@ -56,7 +56,7 @@ impl TrundleEditor {
             x += w + gap;
             let title = section.title().to_uppercase();
             let body = panel(ui, rect, &title, None, t);
-            self.motion_section(ui, body, unit, ids, setter, t);
+            self.motion_section(ui, body, unit, (*section, ids), setter, t);
         }
     }
 
@@ -66,7 +66,7 @@ impl TrundleEditor {
         ui: &mut egui::Ui,
         body: Rect,
         unit: f32,
-        ids: &[ParamId],
+        (section, ids): (Section, &[ParamId]),
         setter: &ParamSetter,
         t: &Theme,
     ) {
@@ -87,10 +87,18 @@ impl TrundleEditor {
                 .shrink2(Vec2::new(3.0 * t.scale, 0.0));
             x += SELECTOR_UNITS * unit;
             if let TableParam::Int(p) = self.params.get(id) {
-                let column = side_column(column, band, variants(id), t);
-                let (label, control) = labelled(column, t);
+                // A selector named as its section needs no caption of its own.
                 let name = spec.place.label;
-                widgets::caption(ui, label.center_top(), Align2::CENTER_TOP, name, t);
+                let column = side_column(column, band, variants(id), t);
+                let control = if name.eq_ignore_ascii_case(section.title()) {
+                    let (_, control) = labelled(column, t);
+                    let centre = Pos2::new(control.center().x, band.center().y);
+                    Rect::from_center_size(centre, control.size())
+                } else {
+                    let (label, control) = labelled(column, t);
+                    widgets::caption(ui, label.center_top(), Align2::CENTER_TOP, name, t);
+                    control
+                };
                 widgets::selector(ui, control, p, setter, true, spec.doc, t);
             }
         }
