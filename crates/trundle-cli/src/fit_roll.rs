@@ -214,7 +214,7 @@ pub fn run(args: &FitRollArgs) -> Result<String, CliError> {
     let opts = if args.is_force {
         RollOptions {
             threshold,
-            contact_scale: p.contact_scale(),
+            contact_scale: trundle_dsp::source::contact::scene_contact_scale(&p),
             ..RollOptions::default()
         }
     } else {
@@ -238,7 +238,7 @@ pub fn run(args: &FitRollArgs) -> Result<String, CliError> {
             } else {
                 BLIND_WIDE.1
             },
-            contact_scale: p.contact_scale(),
+            contact_scale: trundle_dsp::source::contact::scene_contact_scale(&p),
         }
     };
     let fit = fit_roll_with(&force, fs, &opts).map_err(|e| input(format!("{shown}: {e}")))?;

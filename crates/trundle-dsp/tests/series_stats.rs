@@ -34,7 +34,8 @@ fn force_params(set: &[(ParamId, f64)]) -> Params {
 /// contact scale c (height 1/c, `trundle_dsp::source::contact`) and the force carries the size gain
 /// G(S) (`trundle_dsp::source::lowpass::size_gain`), so A = peak·c/G(S).
 fn series_per_peak(p: &Params) -> f64 {
-    p.contact_scale() / trundle_dsp::source::lowpass::size_gain(p.get(ParamId::Size))
+    trundle_dsp::source::contact::scene_contact_scale(p)
+        / trundle_dsp::source::lowpass::size_gain(p.get(ParamId::Size))
 }
 
 fn mean(x: &[f64]) -> f64 {
@@ -240,7 +241,7 @@ fn pulse_durations_follow_the_t0_law() {
         let (zeta, theta) = fit_duration_law(&isolated);
         // ζ = c·7.88·10⁻⁴·S: the papers' law scaled by the ball's contact on the object
         // (`trundle_dsp::source::contact`; the default steel ball on the default object).
-        let set = p.contact_scale() * 7.88e-4 * size;
+        let set = trundle_dsp::source::contact::scene_contact_scale(&p) * 7.88e-4 * size;
         println!("S {size}: zeta {zeta:.4e} s (set {set:.4e}), theta {theta:.4}");
         // The width is measured on the sampled pulse (≥ 25 samples at 96 kHz): a 2 %
         // error on ζ and 0.02 on θ cover the width estimator's quantization.

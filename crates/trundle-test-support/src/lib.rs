@@ -4,7 +4,9 @@
 //! * [`scene`]: a voice's samples for some seconds of a scene, mono, stereo or a preset's
 //!   whole scene (lanes and ball notes).
 //! * [`bands`]: third-octave band levels and the distance between two spectra.
-//! * [`alloc_guard`]: the no-allocation guard (a counting global allocator).
+//! * `alloc_guard` (feature `alloc-guard`): the no-allocation guard (a counting global
+//!   allocator; a feature, because a crate that installs its own allocator — the plugin, through
+//!   nice-plug's `assert_process_allocs` — cannot link a second one).
 //! * [`scratch`]: scratch folders, removed when the test passes.
 //! * [`wav`]: WAV files written from and read back as samples at ±1 full scale.
 //! * [`stats`]: mean and deviation, a least-squares line.
@@ -13,6 +15,7 @@
 //! * [`data`]: data from outside the repository (the recordings of Debian's
 //!   hydrogen-drumkits), required by the tests marked `#[ignore = "needs …"]`.
 
+#[cfg(feature = "alloc-guard")]
 pub mod alloc_guard;
 pub mod bands;
 pub mod cli;

@@ -1,9 +1,9 @@
 //! The editor's randomize button as a pure function: (current values, locks, random
 //! generator) → new values, inside ranges chosen to sound like something.
 //!
-//! The table's parameters fall into the groups of the editor's panels ([`Group`]); a locked
-//! group keeps its values. Each randomized parameter draws from its [`Draw`] in [`RANGES`],
-//! narrower than the table's range where the edges are silence or extremes (velocity
+//! Each row of the table names its group ([`Group`], the row's `group`; `None` for rows
+//! randomize never touches); a locked group keeps its values. Each randomized parameter
+//! draws from its [`Draw`] in [`RANGES`], narrower than the table's range where the edges are silence or extremes (velocity
 //! 0.15–0.9, not the ball at rest; decay 0.3–5×, not 30× tails). Some parameters are never
 //! touched: the gain, the output (object/force), the limiter, the quality and the engine
 //! are the user's level, safety and cost decisions, not part of a sound to discover.
@@ -14,43 +14,9 @@
 use trundle_dsp::params::ParamKind;
 use trundle_dsp::{ParamId, Params};
 
-/// A group of parameters that is randomized or locked together.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Group {
-    /// The ball: size, velocity, roughness, asymmetry, sharpness, material, AM law.
-    Ball,
-    /// The action disk (rub · scratch · roll).
-    Action,
-    /// The object: material disk, size, shape, modes, decay.
-    Object,
-    /// Where the ball rolls and where it is heard: position, listening point, trajectory,
-    /// position amount.
-    Position,
-    /// Stereo width and the random seed.
-    Output,
-}
-
-impl Group {
-    /// Every group, in the editor's order.
-    pub const ALL: [Group; 5] = [
-        Group::Ball,
-        Group::Action,
-        Group::Object,
-        Group::Position,
-        Group::Output,
-    ];
-
-    /// The group's name in the editor.
-    pub fn name(self) -> &'static str {
-        match self {
-            Group::Ball => "Ball",
-            Group::Action => "Action",
-            Group::Object => "Object",
-            Group::Position => "Position",
-            Group::Output => "Width + seed",
-        }
-    }
-}
+/// A group of parameters that is randomized or locked together: a property of each row of
+/// the table ([`trundle_dsp::params::ParamSpec::group`]).
+pub use trundle_dsp::params::Group;
 
 /// How a parameter is drawn.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -79,54 +45,57 @@ pub enum Draw {
     Any,
 }
 
-/// The randomized parameters: group and draw. A table row not listed is never touched.
-pub const RANGES: [(ParamId, Group, Draw); 21] = [
-    (ParamId::Size, Group::Ball, Draw::Linear(0.15, 0.9)),
-    (ParamId::Velocity, Group::Ball, Draw::Linear(0.15, 0.9)),
-    (ParamId::Roughness, Group::Ball, Draw::Linear(0.1, 0.9)),
-    (ParamId::Asymmetry, Group::Ball, Draw::Linear(0.0, 0.6)),
-    (ParamId::Sharpness, Group::Ball, Draw::Log(0.7, 4.0)),
-    (ParamId::BallMaterial, Group::Ball, Draw::AnyVariant),
-    (ParamId::AsymmetryLaw, Group::Ball, Draw::AnyVariant),
+/// How each randomized parameter is drawn (its group is the row's). Every row with a group
+/// is listed here or is [`SEED`] or [`WIDTH`]; a row without one is never touched.
+pub const RANGES: [(ParamId, Draw); 21] = [
+    (ParamId::Size, Draw::Linear(0.15, 0.9)),
+    (ParamId::Velocity, Draw::Linear(0.15, 0.9)),
+    (ParamId::Roughness, Draw::Linear(0.1, 0.9)),
+    (ParamId::Asymmetry, Draw::Linear(0.0, 0.6)),
+    (ParamId::Sharpness, Draw::Log(0.7, 4.0)),
+    (ParamId::BallMaterial, Draw::AnyVariant),
+    (ParamId::AsymmetryLaw, Draw::AnyVariant),
     (
         ParamId::ActionX,
-        Group::Action,
         Draw::Disk {
             y: ParamId::ActionY,
             r: 0.95,
         },
     ),
-    (ParamId::ActionY, Group::Action, Draw::DiskY),
+    (ParamId::ActionY, Draw::DiskY),
     (
         ParamId::MaterialX,
-        Group::Object,
         Draw::Disk {
             y: ParamId::MaterialY,
             r: 0.95,
         },
     ),
-    (ParamId::MaterialY, Group::Object, Draw::DiskY),
-    (ParamId::ObjectSize, Group::Object, Draw::Log(0.1, 3.0)),
-    (ParamId::Shape, Group::Object, Draw::AnyVariant),
-    (ParamId::Modes, Group::Object, Draw::IntLog(16.0, 96.0)),
-    (ParamId::Decay, Group::Object, Draw::Log(0.3, 5.0)),
-    (ParamId::PositionX, Group::Position, Draw::Linear(-0.8, 0.8)),
-    (ParamId::PositionY, Group::Position, Draw::Linear(-0.8, 0.8)),
-    (ParamId::ListenX, Group::Position, Draw::Linear(-0.8, 0.8)),
-    (ParamId::ListenY, Group::Position, Draw::Linear(-0.8, 0.8)),
-    (ParamId::Comb, Group::Position, Draw::Linear(0.0, 0.6)),
+    (ParamId::MaterialY, Draw::DiskY),
+    (ParamId::ObjectSize, Draw::Log(0.1, 3.0)),
+    (ParamId::Shape, Draw::AnyVariant),
+    (ParamId::Modes, Draw::IntLog(16.0, 96.0)),
+    (ParamId::Decay, Draw::Log(0.3, 5.0)),
+    (ParamId::PositionX, Draw::Linear(-0.8, 0.8)),
+    (ParamId::PositionY, Draw::Linear(-0.8, 0.8)),
+    (ParamId::ListenX, Draw::Linear(-0.8, 0.8)),
+    (ParamId::ListenY, Draw::Linear(-0.8, 0.8)),
+    (ParamId::Comb, Draw::Linear(0.0, 0.6)),
     // manual, line, circle: the gravity paths (bowl, ramp, slow-to-stop) come to rest.
-    (ParamId::Trajectory, Group::Position, Draw::FirstVariants(3)),
+    (ParamId::Trajectory, Draw::FirstVariants(3)),
 ];
 
 /// Randomized outside [`RANGES`]' table (its draw is [`Draw::Any`]).
-pub const SEED: (ParamId, Group, Draw) = (ParamId::Seed, Group::Output, Draw::Any);
+pub const SEED: (ParamId, Draw) = (ParamId::Seed, Draw::Any);
 /// Stereo width: never below half (mono is a mixing decision).
-pub const WIDTH: (ParamId, Group, Draw) = (ParamId::Width, Group::Output, Draw::Linear(0.5, 1.0));
+pub const WIDTH: (ParamId, Draw) = (ParamId::Width, Draw::Linear(0.5, 1.0));
 
-/// Every randomized parameter with its group and draw.
+/// Every randomized parameter with its group (the row's) and draw. A draw whose row has no
+/// group is skipped (a test holds the draws and the grouped rows to each other).
 pub fn draws() -> impl Iterator<Item = (ParamId, Group, Draw)> {
-    RANGES.into_iter().chain([WIDTH, SEED])
+    RANGES
+        .into_iter()
+        .chain([WIDTH, SEED])
+        .filter_map(|(id, draw)| Some((id, id.spec().group?, draw)))
 }
 
 /// Which groups keep their values.
@@ -340,8 +309,15 @@ mod tests {
         for g in Group::ALL {
             assert!(draws().any(|(_, group, _)| group == g), "{g:?} empty");
         }
+        // Exactly the rows with a group are drawn, each once.
+        assert_eq!(
+            draws().count(),
+            RANGES.len() + 2,
+            "a draw's row has no group"
+        );
         for spec in PARAMS.iter() {
-            assert!(draws().filter(|(id, _, _)| *id == spec.id).count() <= 1);
+            let drawn = draws().filter(|(id, _, _)| *id == spec.id).count();
+            assert_eq!(drawn, usize::from(spec.group.is_some()), "{}", spec.key);
         }
         // Each disk x names its y, listed with the same group.
         for (id, group, draw) in draws() {

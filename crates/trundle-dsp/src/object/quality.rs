@@ -3,45 +3,11 @@
 //! (docs/MODEL.md "Speed and accuracy").
 
 use crate::object::shape::{MAX_MODES, REFERENCE_MODES};
-use crate::params::{ParamEnum, ParamId};
 
 /// Most high-band slots any quality uses.
 pub const HIGH_SLOTS_MAX: usize = 48;
 
-/// The accuracy/cost budget (the `quality` parameter): mode cap, high-band slots, culling
-/// threshold and the physics engine's oversampling.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub enum Quality {
-    /// At most 16 modes, 8 high-band slots, culling at −50 dB, physics RK4 at one step per
-    /// sample.
-    Draft,
-    /// At most 64 modes, 16 high-band slots, culling at −70 dB, automatic physics
-    /// oversampling.
-    Normal,
-    /// Every requested mode (≤ 256), 24 high-band slots, culling at −90 dB, automatic
-    /// physics oversampling.
-    #[default]
-    High,
-    /// Every requested mode, 48 high-band slots, no culling, physics RK4 at the maximum
-    /// oversampling.
-    Ultra,
-    /// Every mode of the shape's series below min(Nyquist, [`HIGH_BAND_TOP_HZ`](crate::object::resonator::HIGH_BAND_TOP_HZ)) explicitly
-    /// (up to [`REFERENCE_MODES`]), no high band, no culling: the judge the other qualities
-    /// are measured against. Offline only (thousands of modes).
-    Reference,
-}
-
-impl ParamEnum for Quality {
-    const VARIANTS: &'static [Self] = &[
-        Quality::Draft,
-        Quality::Normal,
-        Quality::High,
-        Quality::Ultra,
-        Quality::Reference,
-    ];
-    const NAMES: &'static [&'static str] = &["draft", "normal", "high", "ultra", "reference"];
-    const ID: ParamId = ParamId::Quality;
-}
+pub use crate::params::Quality;
 
 impl Quality {
     /// Largest number of explicit modes the object sounds.

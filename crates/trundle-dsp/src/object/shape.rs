@@ -27,8 +27,6 @@
 
 use core::f64::consts::PI;
 
-use crate::params::{ParamEnum, ParamId};
-
 /// Maximum number of explicit modes of any object below the `reference` quality.
 pub const MAX_MODES: usize = 256;
 
@@ -36,29 +34,7 @@ pub const MAX_MODES: usize = 256;
 /// up to this many.
 pub const REFERENCE_MODES: usize = 4096;
 
-/// An object shape.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Shape {
-    /// Harmonic string (1-D).
-    String,
-    /// Free–free bar (1-D).
-    Bar,
-    /// Rectangular plate (2-D).
-    Plate,
-    /// Shell: bowl, glass, bell (3-D).
-    Shell,
-}
-
-impl Shape {
-    /// All shapes, in parameter-index order.
-    pub const ALL: [Shape; 4] = [Shape::String, Shape::Bar, Shape::Plate, Shape::Shell];
-}
-
-impl ParamEnum for Shape {
-    const VARIANTS: &'static [Self] = &Shape::ALL;
-    const NAMES: &'static [&'static str] = &["string", "bar", "plate", "shell"];
-    const ID: ParamId = ParamId::Shape;
-}
+pub use crate::params::Shape;
 
 /// One mode of a shape: frequency ratio to the first mode and the indices of its shape.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -9,13 +9,34 @@
 //! their variant; integer parameters as whole numbers. [`Params::set`] validates (finite,
 //! inside the range, whole where it must be) and never clamps silently: out-of-range input
 //! is an error naming the parameter and its range.
+//!
+//! The module is a leaf of the crate: it imports nothing of the model.
+//!
+//! * `table.rs` declares every control once (`schema!`): its Rust name, key, name, unit,
+//!   values, default, place in the editor ([`place`]), randomize group and documentation.
+//!   [`ParamId`], [`PARAMS`], [`PARAM_COUNT`] and the choice rows' link to their
+//!   enumerations ([`ChoiceRow`]) are generated from it.
+//! * [`choice`] declares the choice enumerations (shape, engine, gesture…) with their
+//!   stable names; a choice row's names and range come from its enumeration.
+//! * `text.rs` formats and parses values (units, percentages, variant names).
+//!
+//! Adding a scalar control is one row in `table.rs` (plus the code that uses it); adding a
+//! variant to a choice is one line in its enumeration in [`choice`] (plus its `match`
+//! arms in the module that models it).
 
 use core::fmt;
 
+pub mod choice;
+pub mod place;
 mod table;
 mod text;
 
-pub use table::{PARAMS, PARAM_COUNT};
+pub use choice::{
+    AsymmetryLaw, BallMaterial, Engine, GestureKind, Limiting, Output, ParamEnum, Quality, Shape,
+    Trajectory,
+};
+pub use place::{Group, Page, Panel, Place, Section};
+pub use table::{ChoiceRow, ParamId, Values, PARAMS, PARAM_COUNT};
 
 /// How a parameter's value is interpreted.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -31,155 +52,6 @@ pub enum ParamKind {
     Int,
     /// One of the named variants; the value is the variant's index.
     Enum(&'static [&'static str]),
-}
-
-/// Identifies a parameter; the discriminant indexes [`PARAMS`] and [`Params`].
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-#[repr(usize)]
-pub enum ParamId {
-    /// Ball size S.
-    Size,
-    /// Ball velocity V.
-    Velocity,
-    /// Surface roughness ρ.
-    Roughness,
-    /// Asymmetry m (AM depth).
-    Asymmetry,
-    /// Pulse sharpness ξ.
-    Sharpness,
-    /// Material disk x.
-    MaterialX,
-    /// Material disk y.
-    MaterialY,
-    /// Object size (m).
-    ObjectSize,
-    /// Object shape.
-    Shape,
-    /// Number of modes.
-    Modes,
-    /// Decay time multiplier.
-    Decay,
-    /// Output gain (dB).
-    GainDb,
-    /// Random seed.
-    Seed,
-    /// Output: the object's sound or the raw force.
-    Output,
-    /// Action disk x (rub–scratch–roll).
-    ActionX,
-    /// Action disk y.
-    ActionY,
-    /// How the AM depth follows the speed.
-    AsymmetryLaw,
-    /// Ball position on the object, x.
-    PositionX,
-    /// Ball position on the object, y.
-    PositionY,
-    /// Listening point, x.
-    ListenX,
-    /// Listening point, y.
-    ListenY,
-    /// Amount of position-dependent comb filtering.
-    Comb,
-    /// Ball trajectory.
-    Trajectory,
-    /// Which engine makes the force: signal model or physics (see [`crate::physics::mapping`]).
-    Engine,
-    /// Accuracy/cost budget: mode cap, culling, physics oversampling (see [`crate::object::quality::Quality`]).
-    Quality,
-    /// Stereo width: 0 = mono, 1 = the two pickups as they hear the object.
-    Width,
-    /// The output safety limiter (on by default).
-    Limiter,
-    /// What the ball is made of (with the object's material: the contact, [`crate::source::contact`]).
-    BallMaterial,
-    /// The gesture: roll, drop or spin ([`crate::scene::gesture`]).
-    Gesture,
-    /// Drop height (cm).
-    DropHeightCm,
-    /// Coefficient of restitution of the bounce.
-    Restitution,
-    /// Rolling time after a drop before it slows to rest (s; 0 = rolls on).
-    RollTimeS,
-    /// Duration of a spin-down (s).
-    SpinTimeS,
-    /// Spacing of the surface's seams (cm; 0 = none).
-    JointSpacingCm,
-    /// Depth of the surface's seams.
-    JointDepth,
-    /// Time scale of the gravity paths (s).
-    PathTimeS,
-    /// Loose grit on the surface.
-    Grit,
-    /// Balls rolling together, the scene's ball included ([`crate::scene::crowd`]).
-    Crowd,
-    /// Scatter of the crowd's sizes and speeds.
-    CrowdSpread,
-    /// Crowd balls that run a whole source; the rest share one impact process.
-    CrowdDetail,
-}
-
-/// A parameter whose value is one of a few named variants (shape, output, engine…).
-///
-/// The variants' names live with the enum (one `impl` beside each enum), the table's
-/// [`ParamKind::Enum`] rows take them from there, and [`Params`] hands out typed values
-/// ([`Params::shape`], [`Params::engine`], …), so no code converts an index by hand.
-///
-/// **The one rule for a bad index**: [`ParamEnum::from_index`] clamps it to the nearest
-/// variant (an index past the end is the last variant). A validated [`Params`] never holds
-/// one; hosts' values are clamped into the table's range before they get here.
-pub trait ParamEnum: Copy + Sized + PartialEq + 'static {
-    /// Every variant, in index order (the order of [`ParamEnum::NAMES`]).
-    const VARIANTS: &'static [Self];
-    /// The stable names (presets, `--set`, plugin text), in index order.
-    const NAMES: &'static [&'static str];
-    /// The table row holding this enumeration.
-    const ID: ParamId;
-
-    /// The variant with index `i` (clamped: see the trait docs).
-    fn from_index(i: usize) -> Self {
-        Self::VARIANTS[i.min(Self::VARIANTS.len() - 1)]
-    }
-
-    /// The variant stored as the table value `v` (rounded; non-finite or negative → first).
-    fn from_value(v: f64) -> Self {
-        let i = if v.is_finite() && v > 0.0 {
-            v.round() as usize
-        } else {
-            0
-        };
-        Self::from_index(i)
-    }
-
-    /// This variant's index (its value in a [`Params`] set and in presets).
-    fn index(self) -> usize {
-        Self::VARIANTS
-            .iter()
-            .position(|&v| v == self)
-            .expect("VARIANTS lists every variant")
-    }
-
-    /// This variant's stable name.
-    fn name(self) -> &'static str {
-        Self::NAMES[self.index()]
-    }
-}
-
-/// What the voice outputs: the object's sound, or the raw interaction force (TASLP Fig. 5:
-/// the force is the quantity the analysis works on).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub enum Output {
-    /// The object excited by the force (the sound).
-    #[default]
-    Object,
-    /// The interaction force itself, before the position stage and the object.
-    Force,
-}
-
-impl ParamEnum for Output {
-    const VARIANTS: &'static [Self] = &[Output::Object, Output::Force];
-    const NAMES: &'static [&'static str] = &["object", "force"];
-    const ID: ParamId = ParamId::Output;
 }
 
 /// The description of one parameter.
@@ -201,6 +73,10 @@ pub struct ParamSpec {
     pub default: f64,
     /// Interpretation of the value.
     pub kind: ParamKind,
+    /// Where the plugin's editor draws it.
+    pub place: Place,
+    /// The randomize group it is drawn and locked with (`None`: randomize leaves it alone).
+    pub group: Option<Group>,
     /// One-line documentation with the paper reference.
     pub doc: &'static str,
 }
@@ -420,15 +296,15 @@ impl Params {
         self.output() == Output::Force
     }
     /// The typed value of an enumeration parameter.
-    pub fn variant<E: ParamEnum>(&self) -> E {
+    pub fn variant<E: ChoiceRow>(&self) -> E {
         E::from_value(self.get(E::ID))
     }
     /// Set an enumeration parameter from its typed value.
-    pub fn set_variant<E: ParamEnum>(&mut self, v: E) {
+    pub fn set_variant<E: ChoiceRow>(&mut self, v: E) {
         self.values[E::ID as usize] = v.index() as f64;
     }
     /// Object shape.
-    pub fn shape(&self) -> crate::object::shape::Shape {
+    pub fn shape(&self) -> Shape {
         self.variant()
     }
     /// What the voice outputs.
@@ -436,28 +312,19 @@ impl Params {
         self.variant()
     }
     /// Which engine makes the force.
-    pub fn engine(&self) -> crate::physics::mapping::Engine {
+    pub fn engine(&self) -> Engine {
         self.variant()
     }
     /// What the ball is made of.
-    pub fn ball_material(&self) -> crate::source::contact::BallMaterial {
+    pub fn ball_material(&self) -> BallMaterial {
         self.variant()
     }
-    /// The contact scale c of the ball on the object ([`crate::source::contact`]): the factor on
-    /// the papers' pulse duration (1 for their contact).
-    pub fn contact_scale(&self) -> f64 {
-        crate::source::contact::contact_scale_for(
-            self.ball_material(),
-            self.get(ParamId::MaterialX),
-            self.get(ParamId::MaterialY),
-        )
-    }
     /// The gesture (roll, drop, spin).
-    pub fn gesture(&self) -> crate::scene::gesture::GestureKind {
+    pub fn gesture(&self) -> GestureKind {
         self.variant()
     }
     /// Whether the output safety limiter acts.
-    pub fn limiting(&self) -> crate::scene::limiter::Limiting {
+    pub fn limiting(&self) -> Limiting {
         self.variant()
     }
     /// The stereo width (0 = mono … 1).
@@ -465,15 +332,15 @@ impl Params {
         self.get(ParamId::Width)
     }
     /// The accuracy/cost budget.
-    pub fn quality(&self) -> crate::object::quality::Quality {
+    pub fn quality(&self) -> Quality {
         self.variant()
     }
     /// The ball's path.
-    pub fn trajectory(&self) -> crate::scene::space::Trajectory {
+    pub fn trajectory(&self) -> Trajectory {
         self.variant()
     }
     /// How the AM depth follows the speed.
-    pub fn asymmetry_law(&self) -> crate::source::modulation::AsymmetryLaw {
+    pub fn asymmetry_law(&self) -> AsymmetryLaw {
         self.variant()
     }
     /// The hardest steady scene the table allows, for soak tests (`trundle soak`,
@@ -558,9 +425,6 @@ mod tests {
 
     #[test]
     fn enums_are_typed_with_one_rule_for_a_bad_index() {
-        use crate::object::quality::Quality;
-        use crate::object::shape::Shape;
-        use crate::physics::mapping::Engine;
         let mut p = Params::default();
         assert_eq!(p.shape(), Shape::Plate);
         assert_eq!(p.output(), Output::Object);

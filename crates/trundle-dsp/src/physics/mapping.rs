@@ -57,24 +57,11 @@
 //! runs at ≥ 96 kHz, where the impact statistics stop changing (see
 //! [`crate::physics::PhysicsSettings::default`]).
 
-use crate::params::{ParamEnum, ParamId, Params};
+use crate::params::{ParamId, Params};
 use crate::physics::{PhysicsSettings, GRAVITY_M_S2, MAX_OVERSAMPLE};
 use crate::source::modulation::{depth_at, AsymmetryLaw};
 
-/// Which engine makes the interaction force.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Engine {
-    /// The signal model: impact series → pulses → AM → low-pass (TASLP Fig. 5).
-    Signal,
-    /// The physics engine: Hunt–Crossley ball on a fractal surface (TASLP §II-A, §III).
-    Physics,
-}
-
-impl ParamEnum for Engine {
-    const VARIANTS: &'static [Self] = &[Engine::Signal, Engine::Physics];
-    const NAMES: &'static [&'static str] = &["signal", "physics"];
-    const ID: ParamId = ParamId::Engine;
-}
+pub use crate::params::Engine;
 
 /// Length of the crossfade between the two engines' forces when `engine` changes (s).
 pub const ENGINE_CROSSFADE_S: f64 = 0.02;

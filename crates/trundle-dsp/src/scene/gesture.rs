@@ -45,7 +45,7 @@
 //! seams and grit are this stage's pulses in either engine.
 
 use crate::block::CHUNK;
-use crate::params::{ParamEnum, ParamId, Params};
+use crate::params::{ParamId, Params};
 use crate::scene::space::Trajectory;
 use crate::scene::stop::{STOP_DECELERATION_M_S2, STOP_SOFT_SPEED};
 use crate::source::chain::{ImpactLog, ImpactRecord};
@@ -89,23 +89,7 @@ pub const GRIT_GAIN: f64 = 0.5;
 /// [`crate::scene::voice::Voice::drain_impacts`]).
 pub const GESTURE_LOG_CAPACITY: usize = 4096;
 
-/// The gesture of the scene.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub enum GestureKind {
-    /// The ball rolls at V (the papers' scene).
-    #[default]
-    Roll,
-    /// Drop → bounce → roll → settle.
-    Drop,
-    /// A settling spin (Euler's disk).
-    Spin,
-}
-
-impl ParamEnum for GestureKind {
-    const VARIANTS: &'static [Self] = &[GestureKind::Roll, GestureKind::Drop, GestureKind::Spin];
-    const NAMES: &'static [&'static str] = &["roll", "drop", "spin"];
-    const ID: ParamId = ParamId::Gesture;
-}
+pub use crate::params::GestureKind;
 
 /// The gesture's controls (SI units).
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -24,24 +24,9 @@
 //! acts.
 
 use crate::params::Params;
-use crate::params::{ParamEnum, ParamId};
 use crate::stage::Stage;
 
-/// Whether the output safety limiter acts (the `limiter` parameter).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub enum Limiting {
-    /// The engine's level as is (the look-ahead delay stays: constant latency).
-    Off,
-    /// Peaks above the ceiling are limited (the default).
-    #[default]
-    On,
-}
-
-impl ParamEnum for Limiting {
-    const VARIANTS: &'static [Self] = &[Limiting::Off, Limiting::On];
-    const NAMES: &'static [&'static str] = &["off", "on"];
-    const ID: ParamId = ParamId::Limiter;
-}
+pub use crate::params::Limiting;
 
 /// The output ceiling, dBFS.
 pub const CEILING_DB: f64 = -1.0;

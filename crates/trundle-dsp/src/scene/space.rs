@@ -37,8 +37,8 @@
 //! ([`Trajectory::speed_factor`], [`Space::set_path_scale`]). The voice sets the speed
 //! (the sound follows it) and the bowl's radius; the stereo image follows the ball.
 
+use crate::params::ParamId;
 use crate::params::Params;
-use crate::params::{ParamEnum, ParamId};
 use crate::smooth::Smoother;
 use crate::stage::Stage;
 
@@ -49,24 +49,7 @@ pub const MAX_DELAY_S: f64 = 0.055;
 /// Turning point of the line trajectory (normalised coordinates).
 pub const LINE_EXTENT: f64 = 0.9;
 
-/// The ball's path.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub enum Trajectory {
-    /// The ball stays at the set position (automate it to move it).
-    #[default]
-    Manual,
-    /// Back and forth along x through the set position.
-    Line,
-    /// Round the centre through the set position.
-    Circle,
-    /// Circling and spiralling down into a parabolic bowl: the radius shrinks from the set
-    /// position's to 0 over the path time, the speed with it (docs/MODEL.md §11).
-    Bowl,
-    /// Released from rest on a ramp: along the line, accelerating uniformly to V.
-    Ramp,
-    /// Along the line, slowing uniformly from V to rest.
-    SlowToStop,
-}
+pub use crate::params::Trajectory;
 
 impl Trajectory {
     /// The ball's speed as a fraction of V at `t_s` seconds into a path of time scale
@@ -89,20 +72,6 @@ impl Trajectory {
             Trajectory::Bowl | Trajectory::Ramp | Trajectory::SlowToStop
         )
     }
-}
-
-impl ParamEnum for Trajectory {
-    const VARIANTS: &'static [Self] = &[
-        Trajectory::Manual,
-        Trajectory::Line,
-        Trajectory::Circle,
-        Trajectory::Bowl,
-        Trajectory::Ramp,
-        Trajectory::SlowToStop,
-    ];
-    const NAMES: &'static [&'static str] =
-        &["manual", "line", "circle", "bowl", "ramp", "slow-to-stop"];
-    const ID: ParamId = ParamId::Trajectory;
 }
 
 /// Controls of the position stage.

@@ -601,7 +601,7 @@ impl SourceControls {
             action_x: p.get(ParamId::ActionX),
             action_y: p.get(ParamId::ActionY),
             asymmetry_law: p.asymmetry_law(),
-            contact_scale: p.contact_scale(),
+            contact_scale: crate::source::contact::scene_contact_scale(p),
         }
     }
 }

@@ -48,8 +48,6 @@
 //! rubber on anything 2.1. On wood the table's own give dominates, so a light ball makes
 //! the shorter contact (t_c ∝ m^{2/5}).
 
-use crate::params::{ParamEnum, ParamId};
-
 /// An elastic solid: what Hertz's law needs of a material.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Solid {
@@ -110,33 +108,7 @@ pub const WOOD_SURFACE: Solid = Solid {
 /// (TASLP §III-E), k = 4/3·E*·√R: E* = κ·π·ρ_steel·R^{5/2} (Pa).
 pub const REFERENCE_MODULUS_PA: f64 = 5.0e9 * core::f64::consts::PI * 7850.0 * 1e-5;
 
-/// What the ball is made of (the `ball_material` parameter).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub enum BallMaterial {
-    /// A steel ball (bearing, cannonball).
-    #[default]
-    Steel,
-    /// A glass marble.
-    Glass,
-    /// A pebble, a stone ball.
-    Stone,
-    /// A turned hard-wood ball.
-    Hardwood,
-    /// Rubber, urethane (a wheel, a rubber ball).
-    Rubber,
-}
-
-impl ParamEnum for BallMaterial {
-    const VARIANTS: &'static [Self] = &[
-        BallMaterial::Steel,
-        BallMaterial::Glass,
-        BallMaterial::Stone,
-        BallMaterial::Hardwood,
-        BallMaterial::Rubber,
-    ];
-    const NAMES: &'static [&'static str] = &["steel", "glass", "stone", "hardwood", "rubber"];
-    const ID: ParamId = ParamId::BallMaterial;
-}
+pub use crate::params::BallMaterial;
 
 impl BallMaterial {
     /// The solid of this ball.
@@ -181,6 +153,17 @@ pub fn contact_scale_for(ball: BallMaterial, material_x: f64, material_y: f64) -
     contact_scale(
         &b,
         effective_modulus_pa(&b, object_compliance_per_pa(material_x, material_y)),
+    )
+}
+
+/// The contact scale c of a scene's ball on its object: [`contact_scale_for`] of the
+/// `ball_material` and the material disk's point (`material_x`, `material_y`).
+pub fn scene_contact_scale(p: &crate::params::Params) -> f64 {
+    use crate::params::ParamId;
+    contact_scale_for(
+        p.ball_material(),
+        p.get(ParamId::MaterialX),
+        p.get(ParamId::MaterialY),
     )
 }
 

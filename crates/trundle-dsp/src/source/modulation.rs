@@ -6,7 +6,6 @@
 //! hours of rendering, and it is continuous when ν_m changes (no clicks when V or S move).
 
 use crate::block::CHUNK;
-use crate::params::{ParamEnum, ParamId};
 
 /// The modulation frequency of TASLP eq 17: ν_m = 3·V/S Hz (S floored at 0.1).
 #[inline]
@@ -14,24 +13,7 @@ pub fn rate_hz(velocity: f64, size: f64) -> f64 {
     3.0 * velocity.max(0.0) / size.max(0.1)
 }
 
-/// How the modulation depth follows the ball's motion.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub enum AsymmetryLaw {
-    /// Depth m whatever the speed (TASLP eq 7, CMMR's asymmetry control).
-    #[default]
-    Constant,
-    /// Rath (DAFx 2003 §5, eq 4): the force term of an off-centre mass is the second
-    /// derivative of a sinusoidal height, so it grows with the square of the angular speed,
-    /// (v/R)² ∝ ν_m². Depth m·(ν_m/ν_ref)², capped at 1, with ν_ref = 3.75 Hz (the AM rate
-    /// of the default V = 0.5, S = 0.4, where both laws agree).
-    Speed2,
-}
-
-impl ParamEnum for AsymmetryLaw {
-    const VARIANTS: &'static [Self] = &[AsymmetryLaw::Constant, AsymmetryLaw::Speed2];
-    const NAMES: &'static [&'static str] = &["constant", "speed2"];
-    const ID: ParamId = ParamId::AsymmetryLaw;
-}
+pub use crate::params::AsymmetryLaw;
 
 /// AM rate (Hz) at which [`AsymmetryLaw::Speed2`] gives depth m.
 pub const SPEED2_REFERENCE_HZ: f64 = 3.75;

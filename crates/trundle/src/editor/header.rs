@@ -270,17 +270,17 @@ impl TrundleEditor {
         let s = t.scale;
         let h = rect.height() - 6.0 * s;
         let w = 120.0 * s;
-        let more_label = format!("MORE ({})", self.extra.len());
-        for (i, label) in ["CONTROLS", more_label.as_str()].into_iter().enumerate() {
+        let pages = [(Page::Main, "CONTROLS"), (Page::Motion, "MOTION")];
+        for (i, (page, label)) in pages.into_iter().enumerate() {
             let tab = Rect::from_min_size(
                 Pos2::new(rect.left() + i as f32 * (w + 4.0 * s), rect.top()),
                 Vec2::new(w, h),
             );
             let resp = ui.interact(tab, Id::unique(("page_tab", i)), Sense::click());
             if resp.clicked() {
-                self.more = i == 1;
+                self.page = page;
             }
-            let on = self.more == (i == 1);
+            let on = self.page == page;
             let p = ui.painter();
             p.rect_filled(
                 tab,

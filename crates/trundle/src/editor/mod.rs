@@ -31,8 +31,10 @@
 //! * HiDPI: everything is in logical points; egui's pixels per point are the window's scale
 //!   factor (the host's `set_scale` / the system's, through nice-plug-egui and baseview),
 //!   never overridden here. The layout scale below comes on top of it.
-//! * Table rows added after this layout was drawn are not lost: they appear with generic
-//!   controls on a second page ("MORE") until they get a designed place.
+//! * Every row of the table says where it is drawn (`ParamSpec::place`: panel, section,
+//!   caption). The main page's knob rows and side selectors and the whole second page
+//!   ("MOTION": gesture, surface, crowd, quality; `editor/motion.rs`) are laid out from
+//!   those places; the pads and the output column draw their rows by name.
 //! * The limiter's gain reduction comes from the audio thread's lock-free [`LimiterMeter`]
 //!   (the deepest reduction since the last frame), shown with a hold and a fall
 //!   ([`Ballistics`]) beside the limiter's on/off switch.
@@ -44,6 +46,7 @@ mod browser;
 mod disks;
 mod header;
 mod layout;
+mod motion;
 mod object_picker;
 mod panels;
 mod snapshot;
@@ -66,6 +69,7 @@ use nice_plug::editor::SizeConstraints;
 use nice_plug::prelude::*;
 use nice_plug_egui::{create_egui_editor, EguiEditor, EguiNiceSettings, NiceEguiApp};
 use std::sync::Arc;
+use trundle_dsp::params::{Page, Panel, Section};
 use trundle_dsp::scene::preset::{Preset, BUILTIN_PRESETS};
 use trundle_dsp::{ParamId, Params, PARAMS};
 
@@ -104,43 +108,9 @@ pub struct TrundleEditor {
     locks: Locks,
     /// The scale the egui style was last sized for.
     styled_scale: f32,
-    /// Table rows this editor has no designed place for (rows added to the table after the
-    /// editor was drawn); they get generic controls on a second page.
-    extra: Vec<ParamId>,
-    /// Showing the second page.
-    more: bool,
+    /// The page shown (tabs over the bottom row).
+    page: Page,
 }
-
-/// The table rows with a designed control (typed: a renamed or removed row fails to compile).
-const PLACED: [ParamId; 27] = [
-    ParamId::Size,
-    ParamId::Velocity,
-    ParamId::Roughness,
-    ParamId::Asymmetry,
-    ParamId::Sharpness,
-    ParamId::MaterialX,
-    ParamId::MaterialY,
-    ParamId::ObjectSize,
-    ParamId::Shape,
-    ParamId::Modes,
-    ParamId::Decay,
-    ParamId::GainDb,
-    ParamId::Seed,
-    ParamId::Output,
-    ParamId::ActionX,
-    ParamId::ActionY,
-    ParamId::AsymmetryLaw,
-    ParamId::Engine,
-    ParamId::PositionX,
-    ParamId::PositionY,
-    ParamId::ListenX,
-    ParamId::ListenY,
-    ParamId::Comb,
-    ParamId::Trajectory,
-    ParamId::Width,
-    ParamId::Limiter,
-    ParamId::BallMaterial,
-];
 
 /// Build the editor for the plugin.
 ///
@@ -173,12 +143,7 @@ pub fn create(
         ab: AbCompare::default(),
         locks: Locks::default(),
         styled_scale: 0.0,
-        extra: PARAMS
-            .iter()
-            .filter(|spec| !PLACED.contains(&spec.id))
-            .map(|spec| spec.id)
-            .collect(),
-        more: false,
+        page: Page::Main,
     };
     let settings = EguiNiceSettings {
         title: "Trundle".into(),
@@ -250,7 +215,7 @@ impl NiceEguiApp for TrundleEditor {
             self.style_for_scale(ui.ctx(), s);
         }
         let t = Theme::new(s);
-        let l = Layout::new(full, s, !self.extra.is_empty());
+        let l = Layout::new(full, s, true);
         ui.painter().rect_filled(full, 0.0, BG);
 
         self.header(ui, l.header, &setter, &t);
@@ -277,38 +242,18 @@ impl NiceEguiApp for TrundleEditor {
         let body = panel(ui, l.spectrum, "OUTPUT SPECTRUM", Some("dBFS"), &t);
         self.spectrum(ui, body, &t);
 
-        if !self.extra.is_empty() {
-            self.page_tabs(ui, l.tabs, &t);
-        }
-        if self.more {
-            let body = panel(
-                ui,
-                l.bottom,
-                "MORE",
-                Some("controls without a designed place yet"),
-                &t,
-            );
-            self.extra_controls(ui, body, &setter, &t);
+        self.page_tabs(ui, l.tabs, &t);
+        if self.page == Page::Motion {
+            self.motion_page(ui, l.bottom, &setter, &t);
             self.footer(ui, l.footer, &gui, &t);
             return;
         }
 
         let body = panel(ui, l.ball, "BALL", None, &t);
-        let (knobs, side) = split_side(body, 5, 1.35);
-        let band = self.knob_row(
-            ui,
-            knobs,
-            &setter,
-            &t,
-            &[
-                (ParamId::Size, "Size"),
-                (ParamId::Velocity, "Velocity"),
-                (ParamId::Roughness, "Roughness"),
-                (ParamId::Asymmetry, "Asymmetry"),
-                (ParamId::Sharpness, "Sharpness"),
-            ],
-        );
-        // The side column: the engine and the AM law, two two-way selectors, stacked and
+        let knob_ids = placed(Panel::Ball, Section::Knobs);
+        let (knobs, side) = split_side(body, knob_ids.len(), 1.35);
+        let band = self.knob_row(ui, knobs, &setter, &t, &knob_ids);
+        // The side column: the ball's two-way selectors (AM law, engine), stacked and
         // centred on the knobs.
         let row_h = 1.5 * t.font_small + 2.0 * 1.8 * t.font_small;
         let gap = 0.8 * t.font_small;
@@ -316,13 +261,8 @@ impl NiceEguiApp for TrundleEditor {
         let top = (band.center().y - 0.5 * stack_h)
             .max(side.top())
             .min(side.bottom() - stack_h);
-        for (i, (id, name)) in [
-            (ParamId::Engine, "Engine"),
-            (ParamId::AsymmetryLaw, "AM law"),
-        ]
-        .into_iter()
-        .enumerate()
-        {
+        for (i, id) in placed(Panel::Ball, Section::Side).into_iter().enumerate() {
+            let name = id.spec().place.label;
             if let TableParam::Int(p) = self.params.get(id) {
                 let y = top + i as f32 * (row_h + gap);
                 let column = Rect::from_x_y_ranges(side.x_range(), y..=y + row_h);
@@ -334,34 +274,24 @@ impl NiceEguiApp for TrundleEditor {
 
         let body = panel(ui, l.object, "OBJECT", None, &t);
         self.object_title(ui, l.object, body, &t);
-        let (knobs, side) = split_side(body, 3, 1.4);
-        let band = self.knob_row(
-            ui,
-            knobs,
-            &setter,
-            &t,
-            &[
-                (ParamId::ObjectSize, "Size"),
-                (ParamId::Modes, "Modes"),
-                (ParamId::Decay, "Decay"),
-            ],
-        );
-        if let TableParam::Int(p) = self.params.get(ParamId::Shape) {
-            let column = side_column(side, band, 4, &t);
-            let (label, control) = labelled(column, &t);
-            widgets::caption(ui, label.center_top(), Align2::CENTER_TOP, "Shape", &t);
-            widgets::selector(ui, control, p, &setter, true, ParamId::Shape.spec().doc, &t);
+        let knob_ids = placed(Panel::Object, Section::Knobs);
+        let (knobs, side) = split_side(body, knob_ids.len(), 1.4);
+        let band = self.knob_row(ui, knobs, &setter, &t, &knob_ids);
+        for id in placed(Panel::Object, Section::Side) {
+            if let TableParam::Int(p) = self.params.get(id) {
+                let spec = id.spec();
+                let column = side_column(side, band, variants(id), &t);
+                let (label, control) = labelled(column, &t);
+                let name = spec.place.label;
+                widgets::caption(ui, label.center_top(), Align2::CENTER_TOP, name, &t);
+                widgets::selector(ui, control, p, &setter, true, spec.doc, &t);
+            }
         }
 
         let body = panel(ui, l.output, "OUTPUT", None, &t);
-        let (knobs, side) = split_side(body, 2, 3.5);
-        self.knob_row(
-            ui,
-            knobs,
-            &setter,
-            &t,
-            &[(ParamId::GainDb, "Gain"), (ParamId::Width, "Width")],
-        );
+        let knob_ids = placed(Panel::Output, Section::Knobs);
+        let (knobs, side) = split_side(body, knob_ids.len(), 3.5);
+        self.knob_row(ui, knobs, &setter, &t, &knob_ids);
         self.output_stack(ui, side, &setter, &t);
 
         self.footer(ui, l.footer, &gui, &t);
@@ -377,6 +307,22 @@ fn scale_for(size: Vec2) -> f32 {
 /// Whether table row `id` is an enumeration.
 fn is_enum(id: ParamId) -> bool {
     matches!(id.spec().kind, trundle_dsp::params::ParamKind::Enum(_))
+}
+
+/// How many values table row `id` offers in the plugin (an enumeration's variants up to
+/// the plugin's range; `quality` stops at `ultra`).
+fn variants(id: ParamId) -> usize {
+    let (lo, hi) = crate::params::plugin_range(id.spec());
+    (hi - lo) as usize + 1
+}
+
+/// The rows a panel's section draws, in table order: each row's place says where it goes.
+fn placed(panel: Panel, section: Section) -> Vec<ParamId> {
+    PARAMS
+        .iter()
+        .filter(|spec| spec.place.panel == panel && spec.place.section == section)
+        .map(|spec| spec.id)
+        .collect()
 }
 
 /// `a` moved towards `b` by `k` (0…1), opaque.
@@ -436,12 +382,38 @@ mod tests {
     }
 
     #[test]
-    fn every_table_row_has_a_control() {
-        // Each row is either placed by a panel or listed under "more", never both, never
-        // neither: a panel cannot silently draw nothing for a row.
+    fn every_table_row_has_a_place_the_editor_draws() {
+        // The knob rows and side columns are drawn from the rows' places; the pads and the
+        // output stack draw their rows by name: a row placed there must be one of them.
+        let by_name = [
+            ParamId::ActionX,
+            ParamId::ActionY,
+            ParamId::MaterialX,
+            ParamId::MaterialY,
+            ParamId::BallMaterial,
+            ParamId::PositionX,
+            ParamId::PositionY,
+            ParamId::ListenX,
+            ParamId::ListenY,
+            ParamId::Comb,
+            ParamId::Trajectory,
+            ParamId::Output,
+            ParamId::Seed,
+            ParamId::Limiter,
+        ];
         for spec in trundle_dsp::PARAMS.iter() {
-            let placed = PLACED.iter().filter(|&&id| id == spec.id).count();
-            assert!(placed <= 1, "'{}' placed twice", spec.key);
+            let place = spec.place;
+            assert!(!place.label.is_empty(), "{}", spec.key);
+            let drawn = match (place.panel, place.section) {
+                (Panel::Motion, s) => !matches!(s, Section::Knobs | Section::Side | Section::Pad),
+                (Panel::Ball | Panel::Object | Panel::Output, Section::Knobs) => !is_enum(spec.id),
+                (Panel::Ball | Panel::Object, Section::Side) => is_enum(spec.id),
+                _ => by_name.contains(&spec.id),
+            };
+            assert!(drawn, "'{}' placed where nothing draws it", spec.key);
+        }
+        for id in by_name {
+            assert_ne!(id.spec().place.panel, Panel::Motion, "{}", id.key());
         }
     }
 

@@ -1,5 +1,4 @@
-//! The knob panels (ball, object, output), the generic controls of the "more" page, and the
-//! live spectrum.
+//! The knob panels (ball, object, output) and the live spectrum.
 
 use super::*;
 
@@ -29,15 +28,15 @@ impl TrundleEditor {
         self.styled_scale = s;
     }
 
-    /// Knobs for `ids` side by side in equal cells across `body`, centred vertically;
-    /// returns the band they occupy.
+    /// Knobs for `ids` side by side in equal cells across `body`, centred vertically, each
+    /// captioned with its row's place label; returns the band they occupy.
     pub(super) fn knob_row(
         &self,
         ui: &mut egui::Ui,
         body: Rect,
         setter: &ParamSetter,
         t: &Theme,
-        ids: &[(ParamId, &str)],
+        ids: &[ParamId],
     ) -> Rect {
         let w = body.width() / ids.len() as f32;
         // The height a knob of the cell's width needs: name, dial, value.
@@ -45,63 +44,17 @@ impl TrundleEditor {
             2.0 * widgets::KNOB_RADIUS_PER_WIDTH * w + t.font_small * 1.5 + t.font_value * 1.6,
         );
         let top = body.top() + 0.5 * (body.height() - h);
-        for (i, (id, label)) in ids.iter().enumerate() {
+        for (i, id) in ids.iter().enumerate() {
             let cell =
                 Rect::from_min_size(Pos2::new(body.left() + w * i as f32, top), Vec2::new(w, h))
                     .shrink2(Vec2::new(2.0 * t.scale, 0.0));
-            let doc = id.spec().doc;
+            let (label, doc) = (id.spec().place.label, id.spec().doc);
             match self.params.get(*id) {
                 TableParam::Float(p) => widgets::knob(ui, cell, p, setter, label, doc, t),
                 TableParam::Int(p) => widgets::knob(ui, cell, p, setter, label, doc, t),
             };
         }
         Rect::from_min_size(Pos2::new(body.left(), top), Vec2::new(body.width(), h))
-    }
-
-    /// Generic controls for the table rows without a designed place: a knob per number, a
-    /// selector per enumeration, in table order.
-    pub(super) fn extra_controls(
-        &self,
-        ui: &mut egui::Ui,
-        body: Rect,
-        setter: &ParamSetter,
-        t: &Theme,
-    ) {
-        let units: f32 = self
-            .extra
-            .iter()
-            .map(|id| if is_enum(*id) { 2.0 } else { 1.0 })
-            .sum();
-        let unit = (body.width() / units.max(1.0)).min(body.width() / 8.0);
-        let h = body.height().min(
-            2.0 * widgets::KNOB_RADIUS_PER_WIDTH * unit + t.font_small * 1.5 + t.font_value * 1.6,
-        );
-        let top = body.top() + 0.5 * (body.height() - h);
-        let mut x = body.left();
-        for id in &self.extra {
-            let spec = id.spec();
-            let w = if is_enum(*id) { 2.0 * unit } else { unit };
-            let cell = Rect::from_min_size(Pos2::new(x, top), Vec2::new(w, h))
-                .shrink2(Vec2::new(3.0 * t.scale, 0.0));
-            x += w;
-            match self.params.get(*id) {
-                TableParam::Float(p) => {
-                    widgets::knob(ui, cell, p, setter, spec.name, spec.doc, t);
-                }
-                TableParam::Int(p) if is_enum(*id) => {
-                    let (label, rest) = labelled(cell, t);
-                    widgets::caption(ui, label.center_top(), Align2::CENTER_TOP, spec.name, t);
-                    let control = Rect::from_center_size(
-                        rest.center(),
-                        Vec2::new(rest.width(), (22.0 * t.scale).min(rest.height())),
-                    );
-                    widgets::selector(ui, control, p, setter, false, spec.doc, t);
-                }
-                TableParam::Int(p) => {
-                    widgets::knob(ui, cell, p, setter, spec.name, spec.doc, t);
-                }
-            }
-        }
     }
 
     /// The output section's side column: output selector, run selector, seed, and the
@@ -116,7 +69,13 @@ impl TrundleEditor {
         let s = t.scale;
         // Four rows do not leave room for a caption over each control: the captions stand
         // in a column on the left, each beside its control.
-        let captions = ["Output", "Run", "Seed", "Limiter"];
+        let label = |id: ParamId| id.spec().place.label;
+        let captions = [
+            label(ParamId::Output),
+            "Run",
+            label(ParamId::Seed),
+            label(ParamId::Limiter),
+        ];
         let caption_w = captions
             .iter()
             .map(|c| {

@@ -1,0 +1,191 @@
+//! The MOTION page: how the ball moves (the gesture), what it rolls on (seams, grit, the
+//! gravity paths' time), how many balls roll together, and the cost budget — one panel per
+//! section of the rows placed on [`Panel::Motion`], laid out from the rows' places.
+//!
+//! ```text
+//! ├ GESTURE ─────────────────────────┬ SURFACE ──────────────┬ CROWD ─────────┬ QUALITY ┤
+//! │ roll │ height bounce roll   spin │ seams depth path grit │ balls spread   │ draft    │
+//! │ drop │                           │                       │ detail         │ normal   │
+//! │ spin │                           │                       │                │ high …   │
+//! ```
+//!
+//! A section's selectors stand in a column on its left, its knobs follow in table order,
+//! each with the value and its unit under it. A knob whose row does nothing in the current
+//! scene (the drop's height under `roll`, the path time on a path without gravity, the
+//! crowd's spread for one ball…) is drawn dimmed; it still turns, so a scene can be set up
+//! before it is switched on.
+
+use super::*;
+use trundle_dsp::params::GestureKind;
+
+/// Width of a selector column, in knob cells.
+const SELECTOR_UNITS: f32 = 1.35;
+
+/// How much a dimmed knob is veiled (alpha of the panel colour laid over it).
+const DIM_ALPHA: u8 = 150;
+
+impl TrundleEditor {
+    /// Draw the motion page into the bottom row `area`.
+    pub(super) fn motion_page(
+        &self,
+        ui: &mut egui::Ui,
+        area: Rect,
+        setter: &ParamSetter,
+        t: &Theme,
+    ) {
+        let sections = motion_sections();
+        let s = t.scale;
+        let gap = 10.0 * s;
+        let pad = 10.0 * s;
+        let units = |ids: &[ParamId]| -> f32 {
+            ids.iter()
+                .map(|&id| if is_enum(id) { SELECTOR_UNITS } else { 1.0 })
+                .sum()
+        };
+        let total: f32 = sections.iter().map(|(_, ids)| units(ids)).sum();
+        let n = sections.len() as f32;
+        let unit = (area.width() - (n - 1.0) * gap - n * 2.0 * pad) / total.max(1.0);
+        let mut x = area.left();
+        for (i, (section, ids)) in sections.iter().enumerate() {
+            let w = if i + 1 == sections.len() {
+                area.right() - x
+            } else {
+                units(ids) * unit + 2.0 * pad
+            };
+            let rect = Rect::from_min_size(Pos2::new(x, area.top()), Vec2::new(w, area.height()));
+            x += w + gap;
+            let title = section.title().to_uppercase();
+            let body = panel(ui, rect, &title, None, t);
+            self.motion_section(ui, body, unit, (*section, ids), setter, t);
+        }
+    }
+
+    /// One section: its selectors in columns on the left, then its knobs.
+    fn motion_section(
+        &self,
+        ui: &mut egui::Ui,
+        body: Rect,
+        unit: f32,
+        (section, ids): (Section, &[ParamId]),
+        setter: &ParamSetter,
+        t: &Theme,
+    ) {
+        // The knobs' band: as tall as a knob of a cell's width needs, centred.
+        let h = body.height().min(
+            2.0 * widgets::KNOB_RADIUS_PER_WIDTH * unit + t.font_small * 1.5 + t.font_value * 1.6,
+        );
+        let band = Rect::from_min_size(
+            Pos2::new(body.left(), body.top() + 0.5 * (body.height() - h)),
+            Vec2::new(body.width(), h),
+        );
+        let mut live = Params::default();
+        self.params.to_dsp(&mut live);
+        let mut x = body.left();
+        for &id in ids.iter().filter(|&&id| is_enum(id)) {
+            let spec = id.spec();
+            let column = Rect::from_x_y_ranges(x..=x + SELECTOR_UNITS * unit, body.y_range())
+                .shrink2(Vec2::new(3.0 * t.scale, 0.0));
+            x += SELECTOR_UNITS * unit;
+            if let TableParam::Int(p) = self.params.get(id) {
+                // A selector named as its section needs no caption of its own.
+                let name = spec.place.label;
+                let column = side_column(column, band, variants(id), t);
+                let control = if name.eq_ignore_ascii_case(section.title()) {
+                    let (_, control) = labelled(column, t);
+                    let centre = Pos2::new(control.center().x, band.center().y);
+                    Rect::from_center_size(centre, control.size())
+                } else {
+                    let (label, control) = labelled(column, t);
+                    widgets::caption(ui, label.center_top(), Align2::CENTER_TOP, name, t);
+                    control
+                };
+                widgets::selector(ui, control, p, setter, true, spec.doc, t);
+            }
+        }
+        for &id in ids.iter().filter(|&&id| !is_enum(id)) {
+            let spec = id.spec();
+            let cell = Rect::from_min_size(Pos2::new(x, band.top()), Vec2::new(unit, h))
+                .shrink2(Vec2::new(2.0 * t.scale, 0.0));
+            x += unit;
+            let (label, doc) = (spec.place.label, spec.doc);
+            match self.params.get(id) {
+                TableParam::Float(p) => widgets::knob(ui, cell, p, setter, label, doc, t),
+                TableParam::Int(p) => widgets::knob(ui, cell, p, setter, label, doc, t),
+            };
+            if !acts(id, &live) {
+                let veil =
+                    Color32::from_rgba_unmultiplied(PANEL.r(), PANEL.g(), PANEL.b(), DIM_ALPHA);
+                ui.painter().rect_filled(cell, t.radius_small(), veil);
+            }
+        }
+    }
+}
+
+/// The motion page's sections, in [`Section`] order, each with its rows in table order.
+fn motion_sections() -> Vec<(Section, Vec<ParamId>)> {
+    let mut sections: Vec<(Section, Vec<ParamId>)> = Vec::new();
+    for spec in PARAMS.iter().filter(|s| s.place.panel == Panel::Motion) {
+        match sections.iter_mut().find(|(s, _)| *s == spec.place.section) {
+            Some((_, ids)) => ids.push(spec.id),
+            None => sections.push((spec.place.section, vec![spec.id])),
+        }
+    }
+    sections.sort_by_key(|(s, _)| *s);
+    sections
+}
+
+/// Whether row `id` changes the sound of scene `p` (a knob that does not is dimmed).
+fn acts(id: ParamId, p: &Params) -> bool {
+    let gesture = p.gesture();
+    match id {
+        ParamId::DropHeightCm | ParamId::Restitution | ParamId::RollTimeS => {
+            gesture == GestureKind::Drop
+        }
+        ParamId::SpinTimeS => gesture == GestureKind::Spin,
+        ParamId::JointDepth => p.get(ParamId::JointSpacingCm) > 0.0,
+        ParamId::PathTimeS => p.trajectory().has_gravity(),
+        ParamId::CrowdSpread | ParamId::CrowdDetail => p.get(ParamId::Crowd) > 1.0,
+        _ => true,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use trundle_dsp::params::Trajectory;
+
+    #[test]
+    fn the_motion_page_holds_the_gesture_surface_crowd_and_quality_rows() {
+        let sections = motion_sections();
+        let titles: Vec<&str> = sections.iter().map(|(s, _)| s.title()).collect();
+        assert_eq!(titles, ["Gesture", "Surface", "Crowd", "Quality"]);
+        let rows: usize = sections.iter().map(|(_, ids)| ids.len()).sum();
+        assert_eq!(rows, 13);
+        // Each section opens with at most one selector and has a control.
+        for (s, ids) in &sections {
+            assert!(!ids.is_empty(), "{s:?}");
+            assert!(ids.iter().filter(|&&id| is_enum(id)).count() <= 1, "{s:?}");
+        }
+    }
+
+    #[test]
+    fn knobs_are_dimmed_only_where_they_do_nothing() {
+        let mut p = Params::default();
+        assert!(!acts(ParamId::DropHeightCm, &p));
+        assert!(!acts(ParamId::PathTimeS, &p));
+        assert!(acts(ParamId::Grit, &p));
+        p.set_variant(GestureKind::Drop);
+        p.set_variant(Trajectory::Bowl);
+        p.set(ParamId::Crowd, 12.0).unwrap();
+        for id in [
+            ParamId::DropHeightCm,
+            ParamId::Restitution,
+            ParamId::RollTimeS,
+            ParamId::PathTimeS,
+            ParamId::CrowdSpread,
+        ] {
+            assert!(acts(id, &p), "{}", id.key());
+        }
+        assert!(!acts(ParamId::SpinTimeS, &p));
+    }
+}
