@@ -5,33 +5,19 @@
 //! File I/O (`crate::user_presets`) happens here, on the GUI thread, only when the browser
 //! opens and on a button press; never per frame and never on the audio thread.
 
-use super::snapshot::{Loaded, PresetRef};
+use super::layout::*;
+use super::state::*;
 use super::text_entry::ERROR_COLOUR;
-use super::*;
+use super::theme::*;
 use crate::user_presets::{matches_filter, parse_tags, Listing};
 use egui::RichText;
+use egui::{Pos2, Rect, Stroke, UiBuilder, Vec2};
+use nice_plug::prelude::*;
 
 /// The pseudo-tag of every built-in preset.
 const BUILTIN_TAG: &str = "built-in";
 /// The pseudo-tag of every user preset.
 const USER_TAG: &str = "user";
-
-/// The browser's state.
-#[derive(Default)]
-pub(super) struct Browser {
-    /// Showing the browser instead of the controls.
-    pub(super) open: bool,
-    filter: String,
-    tag: Option<String>,
-    selected: Option<PresetRef>,
-    save_name: String,
-    save_tags: String,
-    rename: String,
-    tags: String,
-    confirm_delete: bool,
-    /// The last action's outcome (message, is an error).
-    status: Option<(String, bool)>,
-}
 
 /// One row of the list.
 struct Row {

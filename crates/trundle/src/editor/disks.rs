@@ -1,7 +1,16 @@
 //! The XY pads: the action disk (rub · scratch · roll), the material disk (wood · metal ·
 //! glass) and the position square (ball, listening point, trajectory).
 
-use super::*;
+use super::gesture;
+use super::knob;
+use super::layout::*;
+use super::state::*;
+use super::theme::*;
+use super::widgets;
+use crate::params::TableParam;
+use egui::{Align2, Color32, FontId, Id, Pos2, Rect, Sense, Stroke, Vec2};
+use nice_plug::prelude::*;
+use trundle_dsp::ParamId;
 
 /// Map disk coordinates (x right, y up, unit radius) into a pad centred on `c` of radius `r`.
 pub(super) fn disk_pos(c: Pos2, r: f32, x: f32, y: f32) -> Pos2 {
@@ -167,7 +176,7 @@ pub(super) fn xy_disk(ui: &mut egui::Ui, body: Rect, setter: &ParamSetter, t: &T
         setter.begin_set_parameter(py);
         active = true;
     }
-    if active && down && widgets::reset_modifier(ui) {
+    if active && down && gesture::reset_modifier(ui) {
         // Ctrl/cmd- or alt-click: the defaults, held while the button is.
         if px.unmodulated_plain_value() != px.default_plain_value() {
             setter.set_parameter(px, px.default_plain_value());
@@ -294,7 +303,7 @@ pub(super) fn xy_square(
             setter.begin_set_parameter(py);
         }
     }
-    if held > 0 && down && widgets::reset_modifier(ui) {
+    if held > 0 && down && gesture::reset_modifier(ui) {
         // Ctrl/cmd- or alt-click: the held point's defaults.
         let (px, py) = points[held - 1];
         if px.unmodulated_plain_value() != px.default_plain_value() {
@@ -576,7 +585,7 @@ impl TrundleEditor {
             return;
         };
 
-        let strip_h = (2.0 * widgets::KNOB_RADIUS_PER_WIDTH * 0.36 * body.width()
+        let strip_h = (2.0 * knob::KNOB_RADIUS_PER_WIDTH * 0.36 * body.width()
             + t.font_small * 1.5
             + t.font_value * 1.6)
             .min(0.4 * body.height());
@@ -615,7 +624,7 @@ impl TrundleEditor {
         // Six paths: a drop-down (a row of six pills would shrink their names unreadably).
         widgets::dropdown(ui, control, "trajectory", trajectory, setter, doc, t);
         let knob = Rect::from_min_max(Pos2::new(strip.right() - knob_w, strip.top()), strip.max);
-        widgets::knob(
+        knob::knob(
             ui,
             knob,
             amount,

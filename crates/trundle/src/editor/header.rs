@@ -1,7 +1,15 @@
 //! The header (title, preset menu, bypass), the page tabs and the footer.
 
-use super::*;
+use super::layout::*;
+use super::state::*;
+use super::theme::*;
+use super::widgets;
 use egui::RichText;
+use egui::{Align2, FontId, Id, Pos2, Rect, Sense, Vec2};
+use nice_plug::context::gui::GuiContext;
+use nice_plug::prelude::*;
+use trundle_dsp::params::Page;
+use trundle_dsp::Params;
 
 impl TrundleEditor {
     pub(super) fn header(
@@ -92,17 +100,12 @@ impl TrundleEditor {
                 .iter()
                 .position(|p| self.live_equals(&p.params))
         };
-        let current: Option<(snapshot::PresetRef, String)> = if loaded_matches {
+        let current: Option<(PresetRef, String)> = if loaded_matches {
             self.loaded
                 .as_ref()
                 .map(|l| (l.source.clone(), l.name.clone()))
         } else {
-            builtin_match().map(|i| {
-                (
-                    snapshot::PresetRef::Builtin(i),
-                    self.presets[i].name.clone(),
-                )
-            })
+            builtin_match().map(|i| (PresetRef::Builtin(i), self.presets[i].name.clone()))
         };
         let n = list.len();
         if n > 0 {

@@ -1,7 +1,8 @@
 //! Where everything goes: the window split into header, panels and footer as fixed
 //! fractions, and the helpers that cut a panel into labelled cells.
 
-use super::*;
+use super::theme::*;
+use egui::{Align2, FontId, Pos2, Rect, Stroke, Vec2};
 
 /// The window's rectangles, all proportional to the window.
 pub(super) struct Layout {

@@ -20,7 +20,7 @@
 //!   radii) is multiplied by one scale factor, `min(width / 880, height / 600)`, so the
 //!   editor scales as the host resizes it and keeps its proportions.
 //! * Every change goes through nice-plug's `ParamSetter` with begin/set/end gestures (see
-//!   `editor/widgets.rs`), so host automation recording works. Double-click types a value
+//!   `editor/gesture.rs`), so host automation recording works. Double-click types a value
 //!   (`editor/text_entry.rs`), ctrl/cmd- or alt-click resets, on every control.
 //! * "Load…" in the OBJECT panel opens the fitted-object picker (`editor/object_picker.rs`)
 //!   in place of the body: an object file or a WAV strike fitted on the spot.
@@ -44,26 +44,33 @@
 
 mod browser;
 mod disks;
+mod gesture;
 mod header;
+mod knob;
 mod layout;
 mod motion;
 mod object_picker;
 mod panels;
+mod rows;
 mod snapshot;
+mod state;
 mod text_entry;
 mod theme;
 mod widgets;
 
 use layout::*;
+use rows::{placed, variants};
+pub use state::TrundleEditor;
+use state::{Browser, ObjectPicker};
 use theme::*;
 
 use crate::compare::AbCompare;
 use crate::meter::{Ballistics, LimiterMeter};
-use crate::params::{to_plugin_value, TableParam, TrundleParams};
+use crate::params::{TableParam, TrundleParams};
 use crate::randomize::Locks;
-use crate::spectrum::{SpectrumAnalyzer, SpectrumTap, COLUMNS, F_LO_HZ};
+use crate::spectrum::{SpectrumAnalyzer, SpectrumTap};
 use crate::user_presets::{Listing, PresetStore};
-use egui::{Align2, Color32, FontId, Id, Pos2, Rect, Sense, Stroke, UiBuilder, Vec2};
+use egui::{Align2, Rect, Stroke, Vec2};
 use nice_plug::context::gui::GuiContext;
 use nice_plug::editor::SizeConstraints;
 use nice_plug::prelude::*;
@@ -71,7 +78,6 @@ use nice_plug_egui::{create_egui_editor, EguiEditor, EguiNiceSettings, NiceEguiA
 use std::sync::Arc;
 use trundle_dsp::params::{Page, Panel, Section};
 use trundle_dsp::scene::preset::{Preset, BUILTIN_PRESETS};
-use trundle_dsp::{ParamId, Params, PARAMS};
 
 /// The design size (logical points): at this size the scale factor is 1.
 const DESIGN_W: f32 = 880.0;
@@ -79,38 +85,6 @@ const DESIGN_H: f32 = 600.0;
 /// The smallest window the editor lays out cleanly in.
 const MIN_W: f32 = 660.0;
 const MIN_H: f32 = 450.0;
-
-// The palette: a dark graphite body, one warm accent, the three material colours.
-/// The editor application.
-pub struct TrundleEditor {
-    params: Arc<TrundleParams>,
-    tap: Arc<SpectrumTap>,
-    meter: Arc<LimiterMeter>,
-    /// The limiter meter's display state.
-    reduction: Ballistics,
-    gui: Option<GuiContext>,
-    analyzer: SpectrumAnalyzer,
-    /// The built-in presets.
-    presets: Vec<Preset>,
-    /// The user preset directory (`None` on a system without a user data directory).
-    store: Option<PresetStore>,
-    /// The user presets, as last read from `store`.
-    user: Listing,
-    /// The preset last loaded.
-    loaded: Option<snapshot::Loaded>,
-    /// The preset browser's state.
-    browser: browser::Browser,
-    /// "Load object…": the fitted-object picker's state.
-    picker: object_picker::ObjectPicker,
-    /// The A/B compare slots.
-    ab: AbCompare,
-    /// The groups randomize leaves alone.
-    locks: Locks,
-    /// The scale the egui style was last sized for.
-    styled_scale: f32,
-    /// The page shown (tabs over the bottom row).
-    page: Page,
-}
 
 /// Build the editor for the plugin.
 ///
@@ -138,8 +112,8 @@ pub fn create(
         store: PresetStore::default_dir().map(PresetStore::new),
         user: Listing::default(),
         loaded: None,
-        browser: browser::Browser::default(),
-        picker: object_picker::ObjectPicker::default(),
+        browser: Browser::default(),
+        picker: ObjectPicker::default(),
         ab: AbCompare::default(),
         locks: Locks::default(),
         styled_scale: 0.0,
@@ -304,44 +278,12 @@ fn scale_for(size: Vec2) -> f32 {
     (size.x / DESIGN_W).min(size.y / DESIGN_H).clamp(0.5, 4.0)
 }
 
-/// Whether table row `id` is an enumeration.
-fn is_enum(id: ParamId) -> bool {
-    matches!(id.spec().kind, trundle_dsp::params::ParamKind::Enum(_))
-}
-
-/// How many values table row `id` offers in the plugin (an enumeration's variants up to
-/// the plugin's range; `quality` stops at `ultra`).
-fn variants(id: ParamId) -> usize {
-    let (lo, hi) = crate::params::plugin_range(id.spec());
-    (hi - lo) as usize + 1
-}
-
-/// The rows a panel's section draws, in table order: each row's place says where it goes.
-fn placed(panel: Panel, section: Section) -> Vec<ParamId> {
-    PARAMS
-        .iter()
-        .filter(|spec| spec.place.panel == panel && spec.place.section == section)
-        .map(|spec| spec.id)
-        .collect()
-}
-
-/// `a` moved towards `b` by `k` (0…1), opaque.
-fn lerp_colour(a: Color32, b: Color32, k: f32) -> Color32 {
-    let m = |x: u8, y: u8| (f32::from(x) + k * (f32::from(y) - f32::from(x))).round() as u8;
-    Color32::from_rgb(m(a.r(), b.r()), m(a.g(), b.g()), m(a.b(), b.b()))
-}
-
-/// SplitMix64: scrambles a seed into an unrelated one.
-fn splitmix(x: u64) -> u64 {
-    let mut z = x.wrapping_add(0x9E37_79B9_7F4A_7C15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^ (z >> 31)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use egui::Pos2;
+    use rows::is_enum;
+    use trundle_dsp::ParamId;
 
     #[test]
     fn sections_stay_inside_the_window_and_never_overlap() {
@@ -414,17 +356,6 @@ mod tests {
         }
         for id in by_name {
             assert_ne!(id.spec().place.panel, Panel::Motion, "{}", id.key());
-        }
-    }
-
-    #[test]
-    fn a_new_seed_is_a_valid_seed() {
-        let mut seed = 1u64;
-        for _ in 0..1_000 {
-            let next = splitmix(seed) & 0x7fff_ffff;
-            assert_ne!(next, seed);
-            assert!(next <= i32::MAX as u64);
-            seed = next;
         }
     }
 }

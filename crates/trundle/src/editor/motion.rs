@@ -15,8 +15,18 @@
 //! crowd's spread for one ball…) is drawn dimmed; it still turns, so a scene can be set up
 //! before it is switched on.
 
-use super::*;
+use super::knob;
+use super::layout::*;
+use super::rows::{is_enum, variants};
+use super::state::*;
+use super::theme::*;
+use super::widgets;
+use crate::params::TableParam;
+use egui::{Align2, Color32, Pos2, Rect, Vec2};
+use nice_plug::prelude::*;
 use trundle_dsp::params::GestureKind;
+use trundle_dsp::params::{Panel, Section};
+use trundle_dsp::{ParamId, Params, PARAMS};
 
 /// Width of a selector column, in knob cells.
 const SELECTOR_UNITS: f32 = 1.35;
@@ -72,7 +82,7 @@ impl TrundleEditor {
     ) {
         // The knobs' band: as tall as a knob of a cell's width needs, centred.
         let h = body.height().min(
-            2.0 * widgets::KNOB_RADIUS_PER_WIDTH * unit + t.font_small * 1.5 + t.font_value * 1.6,
+            2.0 * knob::KNOB_RADIUS_PER_WIDTH * unit + t.font_small * 1.5 + t.font_value * 1.6,
         );
         let band = Rect::from_min_size(
             Pos2::new(body.left(), body.top() + 0.5 * (body.height() - h)),
@@ -109,8 +119,8 @@ impl TrundleEditor {
             x += unit;
             let (label, doc) = (spec.place.label, spec.doc);
             match self.params.get(id) {
-                TableParam::Float(p) => widgets::knob(ui, cell, p, setter, label, doc, t),
-                TableParam::Int(p) => widgets::knob(ui, cell, p, setter, label, doc, t),
+                TableParam::Float(p) => knob::knob(ui, cell, p, setter, label, doc, t),
+                TableParam::Int(p) => knob::knob(ui, cell, p, setter, label, doc, t),
             };
             if !acts(id, &live) {
                 let veil =

@@ -12,82 +12,16 @@
 //! offered: the egui backend nice-plug-egui uses, egui-baseview 0.9, does not pass the
 //! window's drag-and-drop events on to egui.)
 
+use super::layout::*;
+use super::state::*;
 use super::text_entry::ERROR_COLOUR;
-use super::*;
+use super::theme::*;
+use super::widgets;
 use crate::object_slot::FitStatus;
 use egui::RichText;
+use egui::{Align2, FontId, Id, Pos2, Rect, UiBuilder, Vec2};
 use std::path::PathBuf;
 use trundle_io::recording::is_recording_name;
-
-/// One line of the folder listing.
-#[derive(Clone, Debug, PartialEq)]
-struct Entry {
-    name: String,
-    dir: bool,
-}
-
-/// The picker's state.
-pub(super) struct ObjectPicker {
-    /// Showing the page.
-    pub(super) open: bool,
-    dir: PathBuf,
-    /// The path field (a folder to open or a file to load).
-    typed: String,
-    entries: Vec<Entry>,
-    /// Why the folder could not be read.
-    error: Option<String>,
-}
-
-impl Default for ObjectPicker {
-    fn default() -> Self {
-        let dir = directories::UserDirs::new()
-            .map(|u| u.home_dir().to_path_buf())
-            .unwrap_or_else(|| PathBuf::from("/"));
-        Self {
-            open: false,
-            typed: dir.display().to_string(),
-            dir,
-            entries: Vec::new(),
-            error: None,
-        }
-    }
-}
-
-/// Whether the picker offers `name` as a file to load.
-fn loadable(name: &str) -> bool {
-    name.to_ascii_lowercase().ends_with(".json") || is_recording_name(name)
-}
-
-impl ObjectPicker {
-    /// Read `dir` (GUI thread): subfolders first, then object files and recordings, by name.
-    fn read(&mut self, dir: PathBuf) {
-        match std::fs::read_dir(&dir) {
-            Ok(list) => {
-                let mut entries: Vec<Entry> = list
-                    .filter_map(Result::ok)
-                    .filter_map(|e| {
-                        let name = e.file_name().to_string_lossy().into_owned();
-                        if name.starts_with('.') {
-                            return None;
-                        }
-                        let is_dir = e.file_type().map(|t| t.is_dir()).unwrap_or(false);
-                        (is_dir || loadable(&name)).then_some(Entry { name, dir: is_dir })
-                    })
-                    .collect();
-                entries.sort_by(|a, b| {
-                    b.dir
-                        .cmp(&a.dir)
-                        .then_with(|| a.name.to_lowercase().cmp(&b.name.to_lowercase()))
-                });
-                self.entries = entries;
-                self.error = None;
-                self.typed = dir.display().to_string();
-                self.dir = dir;
-            }
-            Err(e) => self.error = Some(format!("cannot read {}: {e}", dir.display())),
-        }
-    }
-}
 
 impl TrundleEditor {
     /// Open or close the picker (reading its folder as it opens).
@@ -265,46 +199,5 @@ impl TrundleEditor {
         if let Some(path) = load {
             self.params.object.load_path(path);
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn the_listing_shows_folders_first_then_objects_and_wavs() {
-        let dir = std::env::temp_dir().join(format!("trundle-picker-{}", std::process::id()));
-        std::fs::create_dir_all(dir.join("b-folder")).unwrap();
-        std::fs::create_dir_all(dir.join(".hidden")).unwrap();
-        for f in [
-            "z.wav",
-            "a.object.json",
-            "notes.txt",
-            "K.WAV",
-            "s.flac",
-            "r.ogg",
-        ] {
-            std::fs::write(dir.join(f), b"").unwrap();
-        }
-        let mut p = ObjectPicker::default();
-        p.read(dir.clone());
-        let names: Vec<&str> = p.entries.iter().map(|e| e.name.as_str()).collect();
-        assert_eq!(
-            names,
-            [
-                "b-folder",
-                "a.object.json",
-                "K.WAV",
-                "r.ogg",
-                "s.flac",
-                "z.wav"
-            ]
-        );
-        assert_eq!(p.typed, dir.display().to_string());
-        p.read(dir.join("missing"));
-        assert!(p.error.is_some());
-        assert_eq!(p.dir, dir, "a folder that fails to read leaves the listing");
-        std::fs::remove_dir_all(&dir).ok();
     }
 }

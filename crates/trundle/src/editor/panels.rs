@@ -1,6 +1,15 @@
 //! The knob panels (ball, object, output) and the live spectrum.
 
-use super::*;
+use super::gesture;
+use super::knob;
+use super::state::*;
+use super::theme::*;
+use super::widgets;
+use crate::params::TableParam;
+use crate::spectrum::{COLUMNS, F_LO_HZ};
+use egui::{Align2, Color32, FontId, Id, Pos2, Rect, Stroke, Vec2};
+use nice_plug::prelude::*;
+use trundle_dsp::ParamId;
 
 impl TrundleEditor {
     /// Size egui's own text styles and spacing (combo box, tooltips) for scale `s`.
@@ -40,9 +49,9 @@ impl TrundleEditor {
     ) -> Rect {
         let w = body.width() / ids.len() as f32;
         // The height a knob of the cell's width needs: name, dial, value.
-        let h = body.height().min(
-            2.0 * widgets::KNOB_RADIUS_PER_WIDTH * w + t.font_small * 1.5 + t.font_value * 1.6,
-        );
+        let h = body
+            .height()
+            .min(2.0 * knob::KNOB_RADIUS_PER_WIDTH * w + t.font_small * 1.5 + t.font_value * 1.6);
         let top = body.top() + 0.5 * (body.height() - h);
         for (i, id) in ids.iter().enumerate() {
             let cell =
@@ -50,8 +59,8 @@ impl TrundleEditor {
                     .shrink2(Vec2::new(2.0 * t.scale, 0.0));
             let (label, doc) = (id.spec().place.label, id.spec().doc);
             match self.params.get(*id) {
-                TableParam::Float(p) => widgets::knob(ui, cell, p, setter, label, doc, t),
-                TableParam::Int(p) => widgets::knob(ui, cell, p, setter, label, doc, t),
+                TableParam::Float(p) => knob::knob(ui, cell, p, setter, label, doc, t),
+                TableParam::Int(p) => knob::knob(ui, cell, p, setter, label, doc, t),
             };
         }
         Rect::from_min_size(Pos2::new(body.left(), top), Vec2::new(body.width(), h))
@@ -147,7 +156,7 @@ impl TrundleEditor {
                 .clicked()
             {
                 let next = (splitmix(p.unmodulated_plain_value() as u64) & 0x7fff_ffff) as i32;
-                widgets::set_once(setter, p, next);
+                gesture::set_once(setter, p, next);
             }
         }
 
@@ -272,5 +281,29 @@ impl TrundleEditor {
             Stroke::new(1.0, BORDER),
             egui::StrokeKind::Inside,
         );
+    }
+}
+
+/// SplitMix64: scrambles a seed into an unrelated one.
+pub(super) fn splitmix(x: u64) -> u64 {
+    let mut z = x.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_new_seed_is_a_valid_seed() {
+        let mut seed = 1u64;
+        for _ in 0..1_000 {
+            let next = splitmix(seed) & 0x7fff_ffff;
+            assert_ne!(next, seed);
+            assert!(next <= i32::MAX as u64);
+            seed = next;
+        }
     }
 }

@@ -1,26 +1,13 @@
 //! Whole-sound changes: the live parameters as one [`Params`] snapshot, and applying a
 //! snapshot back (presets, A/B switches, randomize) as host gestures.
 
-use super::*;
+use super::gesture;
+use super::state::*;
 use crate::compare::Slot;
+use crate::params::{to_plugin_value, TableParam};
 use crate::randomize::{randomize, Rng};
-
-/// Which preset is loaded.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub(super) enum PresetRef {
-    /// A built-in preset (an index into the editor's built-in list).
-    Builtin(usize),
-    /// A user preset (its file name in the store).
-    User(String),
-}
-
-/// The preset last loaded and the values it loaded (to tell "edited").
-#[derive(Clone, Debug)]
-pub(super) struct Loaded {
-    pub(super) source: PresetRef,
-    pub(super) name: String,
-    pub(super) params: Params,
-}
+use nice_plug::prelude::*;
+use trundle_dsp::{Params, PARAMS};
 
 /// Whether a parameter holding `have` holds the table value `want`: equal up to the
 /// plugin's step (a float is snapped to its step, so `action_y` = −√3/2 is held as −0.866)
@@ -74,12 +61,12 @@ impl TrundleEditor {
             match self.params.get(spec.id) {
                 TableParam::Float(p) => {
                     if !holds(spec, v, f64::from(p.unmodulated_plain_value())) {
-                        widgets::set_once(setter, p, spec.quantize(v as f32));
+                        gesture::set_once(setter, p, spec.quantize(v as f32));
                     }
                 }
                 TableParam::Int(p) => {
                     if !holds(spec, v, f64::from(p.unmodulated_plain_value())) {
-                        widgets::set_once(setter, p, v.round() as i32);
+                        gesture::set_once(setter, p, v.round() as i32);
                     }
                 }
             }
@@ -107,6 +94,8 @@ impl TrundleEditor {
 mod tests {
     use super::*;
     use crate::params::TrundleParams;
+    use trundle_dsp::scene::preset::{Preset, BUILTIN_PRESETS};
+    use trundle_dsp::ParamId;
 
     #[test]
     fn every_builtin_preset_reads_as_itself_once_loaded() {

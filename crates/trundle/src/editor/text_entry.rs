@@ -10,8 +10,8 @@
 //! * Text that does not parse changes nothing: the field closes and the control shows
 //!   "not a value" in the error colour for [`ERROR_SECONDS`].
 
-use super::widgets::set_once;
-use super::Theme;
+use super::gesture::set_once;
+use super::theme::Theme;
 use egui::{Align2, Color32, FontId, Id, Key, Rect};
 use nice_plug::prelude::*;
 

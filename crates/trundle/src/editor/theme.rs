@@ -1,7 +1,7 @@
 //! Colours and the scaled sizes of the editor (one scale factor for every font, stroke and
 //! radius).
 
-use super::*;
+use egui::Color32;
 
 pub(super) const BG: Color32 = Color32::from_rgb(19, 21, 25);
 pub(super) const PANEL: Color32 = Color32::from_rgb(29, 32, 38);
@@ -72,4 +72,10 @@ impl Theme {
     pub(super) fn radius(&self) -> f32 {
         7.0 * self.scale
     }
+}
+
+/// `a` moved towards `b` by `k` (0…1), opaque.
+pub(super) fn lerp_colour(a: Color32, b: Color32, k: f32) -> Color32 {
+    let m = |x: u8, y: u8| (f32::from(x) + k * (f32::from(y) - f32::from(x))).round() as u8;
+    Color32::from_rgb(m(a.r(), b.r()), m(a.g(), b.g()), m(a.b(), b.b()))
 }
