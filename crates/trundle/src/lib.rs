@@ -194,7 +194,7 @@ impl Plugin for Trundle {
     }
 
     fn filter_state(state: &mut PluginState) {
-        for line in params::check_state(state) {
+        for line in params::state::check_state(state) {
             nice_warn!("Trundle state: {line}");
         }
     }
