@@ -2,6 +2,11 @@
 //! source file of the workspace (`*.rs` under `crates/*/src`, `xtask/src`, `tests/src`) is
 //! listed. The map is read from the page itself, so a new module means one row there.
 //!
+//! The docs cite the layout as it is, too: every repository path in a code span of README.md
+//! or docs/**/*.md (`crates/…`, `docs/…`, `presets/…`, `xtask/…`, `.ci/…`) exists, and so does
+//! every module file docs/MODEL.md names (`source/series.rs`, relative to trundle-dsp's
+//! `src/`; `tests/x.rs`, to its `tests/`).
+//!
 //! The page's "## Modules" section holds one `### `folder/`` heading per source root and
 //! tables whose first cell names paths under it in backticks: `file.rs` lists that file,
 //! `folder/` lists the `.rs` files directly in that folder (a folder of private helpers, the
@@ -183,4 +188,112 @@ fn the_map_is_read_as_documented() {
     assert!(!covers("crates/a/src/x/", "crates/a/src/x/c/d.rs"));
     assert!(!covers("crates/a/src/x/", "crates/a/src/xy/b.rs"));
     assert!(covers("crates/a/src/y.rs", "crates/a/src/y.rs"));
+}
+
+/// The code spans of a page outside fenced code blocks.
+fn prose_code_spans(page: &str) -> Vec<String> {
+    let mut fence = false;
+    let mut out = Vec::new();
+    for line in page.lines() {
+        if line.trim_start().starts_with("```") {
+            fence = !fence;
+            continue;
+        }
+        if !fence {
+            out.extend(code_spans(line).into_iter().map(str::to_owned));
+        }
+    }
+    out
+}
+
+/// README.md and every `.md` under docs/.
+fn doc_pages() -> Vec<PathBuf> {
+    fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
+        for entry in std::fs::read_dir(dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display())) {
+            let path = entry.expect("a directory entry").path();
+            if path.is_dir() {
+                walk(&path, out);
+            } else if path.extension().is_some_and(|x| x == "md") {
+                out.push(path);
+            }
+        }
+    }
+    let mut out = vec![root().join("README.md")];
+    walk(&root().join("docs"), &mut out);
+    out.sort();
+    out
+}
+
+/// A code span that names a path from the workspace root: its first word, when it starts
+/// with a top-level folder and holds no pattern (`*`, `{n}`, `…`).
+fn root_path(span: &str) -> Option<&str> {
+    let word = span.split_whitespace().next()?;
+    let top = ["crates/", "docs/", "presets/", "xtask/", ".ci/"];
+    (top.iter().any(|t| word.starts_with(t)) && !word.contains(['*', '{', '…', '$']))
+        .then_some(word)
+}
+
+/// A code span of MODEL.md that names a file of trundle-dsp: `folder/file.rs`, `file.rs`,
+/// `folder/`, or `tests/file.rs`.
+fn model_path(span: &str) -> Option<&str> {
+    let ok = !span.is_empty()
+        && (span.ends_with(".rs") || span.ends_with('/'))
+        && span
+            .chars()
+            .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || "_/.".contains(c));
+    ok.then_some(span)
+}
+
+#[test]
+fn every_path_the_docs_cite_exists() {
+    let mut missing = Vec::new();
+    let mut checked = 0;
+    for page in doc_pages() {
+        let text = std::fs::read_to_string(&page).expect("a readable page");
+        let name = page
+            .strip_prefix(root())
+            .unwrap_or(&page)
+            .display()
+            .to_string();
+        let is_model = page.ends_with("docs/MODEL.md");
+        for span in prose_code_spans(&text) {
+            let path = if let Some(p) = root_path(&span) {
+                root().join(p)
+            } else if let Some(p) = model_path(&span).filter(|_| is_model) {
+                let dsp = root().join("crates/trundle-dsp");
+                if p.starts_with("tests/") {
+                    dsp.join(p)
+                } else {
+                    dsp.join("src").join(p)
+                }
+            } else {
+                continue;
+            };
+            checked += 1;
+            if !path.exists() {
+                missing.push(format!("{name}: `{span}`"));
+            }
+        }
+    }
+    println!("{checked} cited paths checked");
+    assert!(
+        missing.is_empty(),
+        "the docs cite paths that are not there:\n  {}",
+        missing.join("\n  ")
+    );
+}
+
+#[test]
+fn cited_paths_are_recognized() {
+    assert_eq!(
+        root_path("crates/trundle/src/editor/"),
+        Some("crates/trundle/src/editor/")
+    );
+    assert_eq!(root_path("docs/MODEL.md §N"), Some("docs/MODEL.md"));
+    assert_eq!(root_path("presets/*.json"), None);
+    assert_eq!(root_path("trundle render"), None);
+    assert_eq!(model_path("source/series.rs"), Some("source/series.rs"));
+    assert_eq!(model_path("physics/"), Some("physics/"));
+    assert_eq!(model_path("object::long_bank::LongBank"), None);
+    assert_eq!(model_path("cargo test"), None);
 }
