@@ -264,3 +264,54 @@ fn links_are_read_outside_code_only() {
     assert!(!is_external("guide/sound.md#the-contact-ball-materials"));
     assert!(!is_external("#anchor"));
 }
+
+/// Every `.rs` file of the workspace outside `target/`.
+fn rust_files() -> Vec<PathBuf> {
+    fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
+        let Ok(entries) = std::fs::read_dir(dir) else {
+            return;
+        };
+        for entry in entries {
+            let path = entry.expect("a directory entry").path();
+            let name = path.file_name().map(|n| n.to_string_lossy().into_owned());
+            if path.is_dir() {
+                if !matches!(name.as_deref(), Some("target" | ".git")) {
+                    walk(&path, out);
+                }
+            } else if path.extension().is_some_and(|x| x == "rs") {
+                out.push(path);
+            }
+        }
+    }
+    let mut out = Vec::new();
+    for top in ["crates", "tests", "xtask"] {
+        walk(&root().join(top), &mut out);
+    }
+    out
+}
+
+#[test]
+fn code_cites_guide_pages_not_readme_sections() {
+    // The README is a newcomer's page; the manual's sections live in docs/guide/. A comment
+    // that sends a reader to a README section by name points at nothing.
+    let needle = ["README", " \""].concat();
+    let mut stale = Vec::new();
+    for file in rust_files() {
+        let text = std::fs::read_to_string(&file).expect("a readable source file");
+        for (i, line) in text.lines().enumerate() {
+            if line.contains(&needle) {
+                let name = file
+                    .strip_prefix(root())
+                    .unwrap_or(&file)
+                    .display()
+                    .to_string();
+                stale.push(format!("{name}:{}: {}", i + 1, line.trim()));
+            }
+        }
+    }
+    assert!(
+        stale.is_empty(),
+        "cite the guide page (docs/guide/…) instead:\n  {}",
+        stale.join("\n  ")
+    );
+}
