@@ -1,5 +1,5 @@
 //! A spectrogram of a built-in scene rendered whole, with its impacts marked: the figure of
-//! README "Gestures and surfaces" (docs/drop-spectrogram.png).
+//! docs/guide/scenes.md "Gestures and surfaces" (docs/drop-spectrogram.png).
 //!
 //! ```sh
 //! cargo run --release -p trundle-cli --example spectrogram -- dropped-steel-ball-on-wood-floor 5 docs/drop-spectrogram.png

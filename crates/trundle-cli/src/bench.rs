@@ -19,8 +19,8 @@
 //! plus the bank and the voice at 8/32/128 modes, the real-time factor (seconds of audio
 //! per second of computing) and the voices one core sustains. Everything printed is measured
 //! in this run on this machine; figures of other tools (the Sound Design Toolkit's rolling
-//! chain, …) are not constants here — the README gives them with their machine, date and
-//! method. The targets are the project's own goals, not measurements.
+//! chain, …) are not constants here — docs/guide/performance.md gives them with their machine,
+//! date and method. The targets are the project's own goals, not measurements.
 
 use std::hint::black_box;
 use std::time::{Duration, Instant};
@@ -40,7 +40,7 @@ const BLOCK: usize = 512;
 /// Target for the bank at 128 modes (ns per mode·sample).
 const TARGET_MODAL: f64 = 0.3;
 /// Target for the signal voice at 32 modes (ns per sample; issue #16: ≥ 50× the Sound
-/// Design Toolkit's rolling chain as measured side by side, README "Performance").
+/// Design Toolkit's rolling chain as measured side by side, docs/guide/performance.md).
 const TARGET_VOICE: f64 = 16.0;
 /// Target for the signal source alone (ns per sample; issue #16).
 const TARGET_SOURCE: f64 = 8.0;

@@ -1,7 +1,7 @@
 //! `trundle tradeoff` in CI: a short scene (1 s) runs, its JSON has a row per setting with
 //! the cost and both distances, and the reference row is at distance 0. (One second is far
 //! too short for meaningful distances between physics settings — the series' long
-//! correlation leaves few independent values; the README's table uses 10 s.)
+//! correlation leaves few independent values; docs/guide/performance.md's table uses 10 s.)
 
 use std::path::Path;
 use std::process::Command;

@@ -1,4 +1,4 @@
-//! The crowd's level-of-detail trade, measured (README "A thousand balls"):
+//! The crowd's level-of-detail trade, measured (docs/guide/scenes.md "A thousand balls"):
 //! `cargo run --release -p trundle-dsp --example crowd_detail`.
 //!
 //! For crowds of 64 and 1000 balls (spread 0.5, the default scene), the crowd's force is

@@ -49,8 +49,8 @@
 //! Cost: a detailed ball costs a whole source (~12 ns a sample); a merged ball costs a
 //! compare per chunk and, per impact, one series draw and one pulse — a thousand balls at
 //! the default scene run ~25× faster than real time with the object (`trundle bench`,
-//! `balls_1000_realtime_factor`; the detail trade is measured in README "Speed and
-//! accuracy"). Balls join the merged process at most [`JOINS_PER_CHUNK`] a chunk (each
+//! `balls_1000_realtime_factor`; the detail trade is measured in docs/guide/scenes.md "A
+//! thousand balls"). Balls join the merged process at most [`JOINS_PER_CHUNK`] a chunk (each
 //! warms its series up from the zero state), so a jump from 1 to 1000 balls pours in over
 //! 21 ms at 48 kHz.
 //!
