@@ -2,7 +2,9 @@
 //! notes, impacts drained, non-finite samples counted, each block handed to a sink; and the
 //! progress bar.
 
-use super::*;
+use super::args::BLOCK;
+use super::plan::Plan;
+use crate::error::CliError;
 use crate::output::CsvOut;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::{self, IsTerminal};

@@ -1,9 +1,55 @@
 //! Validation: every argument of `trundle render` checked and turned into a [`Plan`] before
 //! anything is rendered or written.
 
-use super::*;
+use super::args::*;
+use crate::error::{input, quote, CliError};
+use crate::output::Format;
 use crate::output::{check_destination, same_path, WAV_MAX_DATA_BYTES};
-use trundle_dsp::params::{spec_by_key, Output, ParamEnum};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use trundle_dsp::object::fitted::LoadedObject;
+use trundle_dsp::params::{spec_by_key, Output, ParamEnum, ParamId};
+use trundle_dsp::scene::events::VoiceEvent;
+use trundle_dsp::scene::preset::{Lane, Preset};
+use trundle_dsp::Params;
+use trundle_io::object_file::read_loaded_object;
+use trundle_io::preset_file::read_preset_file;
+
+/// How the output level is set.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum LevelMode {
+    /// Scale so the peak sits at this many dBFS.
+    Normalize { peak_db: f64 },
+    /// Keep the engine's level: the safety limiter if `limiter` is on, then the never-clip
+    /// guard.
+    Calibrated,
+}
+
+/// A validated render: nothing in here can be wrong any more.
+#[derive(Debug)]
+pub(crate) struct Plan {
+    pub(crate) params: Params,
+    /// The preset's keyframe lanes (lanes of parameters given with --set are dropped).
+    pub(super) automation: Vec<Lane>,
+    /// The preset's extra balls as note events at their samples, sorted by sample.
+    pub(super) events: Vec<(u64, VoiceEvent)>,
+    pub(crate) preset_name: String,
+    pub(crate) sample_rate: u32,
+    pub(crate) frames: u64,
+    /// 1 (mono mix or force) or 2 (stereo).
+    pub(crate) channels: u16,
+    pub(crate) format: Format,
+    pub(super) level: LevelMode,
+    pub(super) output: PathBuf,
+    pub(super) impacts: Option<PathBuf>,
+    pub(crate) overwrite: bool,
+    /// The fitted object played instead of the recipe (from --object or the preset).
+    pub(super) object: Option<Arc<LoadedObject>>,
+    /// Render the impulse response (`--impulse`); `frames` is then the longest length
+    /// unless `--seconds` fixed it.
+    pub(super) impulse: bool,
+    pub(super) seconds_given: bool,
+}
 
 /// A take of `--variations`: its seed, `--set` items added after the command's own, and its
 /// file.
@@ -270,9 +316,43 @@ fn parse_normalize_db(text: &str) -> Result<f64, CliError> {
     Ok(v)
 }
 
+/// Read, parse and validate an object file (`trundle fit-object`; at most
+/// [`trundle_io::object_file::MAX_OBJECT_BYTES`]) and prepare it for the voice; errors name
+/// the file and the problem (exit code 2).
+pub fn load_object(path: &Path) -> Result<Arc<LoadedObject>, CliError> {
+    read_loaded_object(path).map_err(|e| {
+        input(format!(
+            "--object {}: {}",
+            quote(&path.display().to_string()),
+            e.problem
+        ))
+    })
+}
+
+/// Does `--preset` name a file (rather than a built-in preset)?
+fn names_a_file(arg: &str) -> bool {
+    arg.contains('/') || arg.contains(std::path::MAIN_SEPARATOR) || arg.ends_with(".json")
+}
+
+/// Load a built-in preset or a preset file (at most
+/// [`trundle_io::preset_file::MAX_PRESET_BYTES`]); errors name the preset and the problem.
+pub fn load_preset(arg: &str) -> Result<Preset, CliError> {
+    if !names_a_file(arg) {
+        return Preset::builtin(arg).map_err(|e| {
+            input(format!(
+                "--preset {}: {e}; to load a file, give a path containing '/' or ending in .json",
+                quote(arg)
+            ))
+        });
+    }
+    read_preset_file(Path::new(arg))
+        .map_err(|e| input(format!("--preset {}: {}", quote(arg), e.problem)))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use trundle_dsp::scene::preset::DEFAULT_PRESET;
 
     #[test]
     fn number_parsers_refuse_and_name_bad_values() {

@@ -2,9 +2,11 @@
 //! behind the safety limiter and the never-clip guard) into the WAV file, and the summary
 //! line; and `--impulse`.
 
+use super::args::*;
 use super::pass::{interleave, render_pass, Impacts, Progress};
 use super::plan::channels_name;
-use super::*;
+use super::plan::{LevelMode, Plan};
+use crate::error::CliError;
 use crate::level;
 use crate::output::{io_fail, CsvOut, Spool, WavOut, Written, MEM_SPOOL_SAMPLES};
 use trundle_dsp::scene::limiter::Limiting;
