@@ -92,7 +92,7 @@ pub const INVERSE_DETECTION: (f64, f64, f64) = (0.01, 2.0, 0.1);
 pub const BLIND_DETECTION: (f64, f64, f64) = (0.015, 1.0, 1.0);
 /// Blind, a second ripple test: a peak under 0.15 of a peak within ±4 ms is dropped (what
 /// the deconvolution leaves 1 … 6 ms from a pulse, 3 … 8 % of it; measured on the rolls of
-/// `tests/fit.rs`: none of the rendered impacts above the threshold goes).
+/// `tests/fit_roll.rs`: none of the rendered impacts above the threshold goes).
 pub const BLIND_WIDE: (f64, f64) = (4.0, 0.15);
 /// Minimum entropy deconvolution (blind): filter taps (85 ms at 48 kHz: shorter filters
 /// leave the object's long modes, and at 2048 taps a rough roll reads 0.46 for 0.8),

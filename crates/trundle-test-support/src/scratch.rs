@@ -13,7 +13,7 @@ pub struct Scratch {
 }
 
 /// A fresh scratch folder `name` of the running test file (named for the test executable,
-/// `cli` for `tests/cli.rs`); `name` must be unique within the file.
+/// `presets` for `tests/presets.rs`); `name` must be unique within the file.
 pub fn scratch(name: &str) -> Scratch {
     let exe = std::env::current_exe().expect("the test executable's path");
     let stem = exe.file_stem().and_then(|s| s.to_str()).unwrap_or("test");

@@ -294,7 +294,7 @@ pub fn kurtosis(x: &[f64], edge: usize) -> f64 {
 /// one), and the force estimate rings: the kurtosis falls. Too small an ε amplifies the
 /// noise and the mismatch of the fitted modes: the kurtosis falls again, towards 3. On
 /// a roll rendered by Trundle the ladder settles at ε = 10⁻⁷ (−70 dB; a fixed 10⁻³ leaves
-/// ringing that counts as hundreds of impacts, `tests/fit.rs`). Returns the estimate and ε.
+/// ringing that counts as hundreds of impacts, `tests/fit_roll.rs`). Returns the estimate and ε.
 pub fn wiener_inverse_auto(x: &[f64], h: &[f64], sample_rate_hz: f64) -> (Vec<f64>, f64) {
     WienerInverse::new(x, h).sparsest(sample_rate_hz)
 }

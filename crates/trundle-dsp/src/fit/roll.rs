@@ -40,7 +40,7 @@
 //! merges an interval, and b₁(Δ), b₁(A) (a near-unit-root ARMA, a₁ ≈ −0.95) move by tenths
 //! for a few dozen of them: the count must be right to within a per cent, which this gets
 //! (on Trundle's own rolls through a `fit-object` file of the same object, the impacts are
-//! those of the force itself, `tests/fit.rs`).
+//! those of the force itself, `tests/fit_roll.rs`).
 //!
 //! ## Blind
 //! Without the object, [`med_inverse`](crate::fit::deconvolve::med_inverse) estimates the force by minimum entropy
@@ -58,7 +58,7 @@
 //! and what is left of the object sits 1 … 6 ms around them at 3 … 8 %: impacts are the
 //! largest peak within ±1 ms, then none under 0.15 of a peak within ±4 ms
 //! ([`RollOptions::wide_gap_s`]). The pulses' widths are sharpened with the object: the size
-//! reads low (0.7 of S on `tests/fit.rs`'s rolls).
+//! reads low (0.7 of S on `tests/fit_roll.rs`'s rolls).
 //!
 //! ## Size and contact
 //! The widths give c·S, not S: a pulse lasts c·7.88·10⁻⁴·S·A^−0.29 s, c the contact scale
@@ -196,7 +196,7 @@ pub fn am_depth_of_impacts(impacts: &[Impact], am_rate_hz: f64) -> f64 {
 
 /// Roughness from Table I's linear map (TASLP §V-C) inverted per statistic: μ_Δ, b₁(Δ),
 /// b₁(A); returns the weighted mean (weights 1/σ², σ = 0.05, 0.05, 0.12 in ρ: the spread of
-/// each estimate over ~2000 impacts, `trundle-cli/tests/fit.rs`) and the three parts.
+/// each estimate over ~2000 impacts, `trundle-cli/tests/fit_roll.rs`) and the three parts.
 pub fn roughness_from(series: &SeriesAnalysis) -> (f64, [f64; 3]) {
     let (s, r) = (TABLE_I_SMOOTH, TABLE_I_ROUGH);
     let inv = |v: f64, lo: f64, hi: f64| (v - lo) / (hi - lo);
