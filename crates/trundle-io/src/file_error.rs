@@ -8,6 +8,13 @@ use std::fs::File;
 use std::io::{self, Read};
 use std::path::{Path, PathBuf};
 
+/// Largest object file read: 16 MiB (a fitted object of 2000 modes is about 300 KiB).
+pub const MAX_OBJECT_BYTES: u64 = 16 << 20;
+
+/// Largest preset file read: 1 MiB (presets are a few hundred bytes, a few hundred KiB with
+/// an embedded fitted object; the cap stops `/dev/zero` or a recording given by mistake).
+pub const MAX_PRESET_BYTES: u64 = 1 << 20;
+
 /// What kind of file a reader expected (its name in messages and its size cap).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum FileKind {
@@ -37,8 +44,8 @@ impl FileKind {
     /// The largest file of this kind read (bytes).
     pub fn max_bytes(self) -> u64 {
         match self {
-            FileKind::Object => crate::object_file::MAX_OBJECT_BYTES,
-            FileKind::Preset => crate::preset_file::MAX_PRESET_BYTES,
+            FileKind::Object => MAX_OBJECT_BYTES,
+            FileKind::Preset => MAX_PRESET_BYTES,
         }
     }
 

@@ -10,8 +10,7 @@ use std::path::Path;
 use std::sync::Arc;
 use trundle_dsp::object::fitted::{self, LoadedObject, ObjectFile};
 
-/// Largest object file read: 16 MiB (a fitted object of 2000 modes is about 300 KiB).
-pub const MAX_OBJECT_BYTES: u64 = 16 << 20;
+pub use crate::file_error::MAX_OBJECT_BYTES;
 
 /// Parse an object file's text: the object, or why it is unusable ([`Problem::Json`] or
 /// [`Problem::Values`], the latter naming the field at fault).

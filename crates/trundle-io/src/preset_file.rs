@@ -8,9 +8,7 @@ use crate::file_error::{read_capped_text, FileError, FileKind, Problem};
 use std::path::Path;
 use trundle_dsp::scene::preset::Preset;
 
-/// Largest preset file read: 1 MiB (presets are a few hundred bytes, a few hundred KiB with
-/// an embedded fitted object; the cap stops `/dev/zero` or a recording given by mistake).
-pub const MAX_PRESET_BYTES: u64 = 1 << 20;
+pub use crate::file_error::MAX_PRESET_BYTES;
 
 /// Read and validate the preset file `path` (at most [`MAX_PRESET_BYTES`]); a preset the
 /// model refuses (bad JSON included) is a [`Problem::Values`] error with its message.
