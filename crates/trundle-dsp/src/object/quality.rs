@@ -41,14 +41,4 @@ impl Quality {
             Quality::Ultra | Quality::Reference => f64::NEG_INFINITY,
         }
     }
-
-    /// The physics engine's RK4 steps per sample: `Some(n)`, or `None` for the automatic
-    /// choice ([`crate::physics::mapping::auto_oversample`]).
-    pub fn physics_oversample(self) -> Option<usize> {
-        match self {
-            Quality::Draft => Some(1),
-            Quality::Normal | Quality::High => None,
-            Quality::Ultra | Quality::Reference => Some(crate::physics::MAX_OVERSAMPLE),
-        }
-    }
 }

@@ -113,6 +113,18 @@ pub fn relief_m(roughness: f64) -> f64 {
     RELIEF_SMOOTH_M * 4f64.powf(roughness.clamp(0.0, 1.0))
 }
 
+/// The physics engine's RK4 steps per sample at a `quality`: `Some(n)`, or `None` for the
+/// automatic choice ([`auto_oversample`]): draft 1, normal and high automatic, ultra and
+/// reference [`MAX_OVERSAMPLE`].
+pub fn quality_oversample(quality: crate::params::Quality) -> Option<usize> {
+    use crate::params::Quality;
+    match quality {
+        Quality::Draft => Some(1),
+        Quality::Normal | Quality::High => None,
+        Quality::Ultra | Quality::Reference => Some(MAX_OVERSAMPLE),
+    }
+}
+
 /// Oversampling that brings the RK4 rate to at least [`AUTO_INTERNAL_RATE_HZ`].
 pub fn auto_oversample(sample_rate_hz: f64) -> usize {
     ((AUTO_INTERNAL_RATE_HZ / sample_rate_hz.max(1.0)).ceil() as usize).clamp(1, MAX_OVERSAMPLE)

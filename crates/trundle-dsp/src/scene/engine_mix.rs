@@ -42,7 +42,8 @@ use crate::block::CHUNK;
 use crate::object::quality::Quality;
 use crate::params::Params;
 use crate::physics::mapping::{
-    auto_oversample, Engine, PhysicsControls, ENGINE_CROSSFADE_S, PHYSICS_FORCE_SCALE,
+    auto_oversample, quality_oversample, Engine, PhysicsControls, ENGINE_CROSSFADE_S,
+    PHYSICS_FORCE_SCALE,
 };
 use crate::physics::{PhysicsEngine, MAX_OVERSAMPLE};
 use crate::smooth::Smoother;
@@ -190,9 +191,7 @@ impl EngineMix {
 
     fn oversample(&self) -> usize {
         if self.oversample == 0 {
-            self.quality
-                .physics_oversample()
-                .unwrap_or_else(|| auto_oversample(self.fs))
+            quality_oversample(self.quality).unwrap_or_else(|| auto_oversample(self.fs))
         } else {
             self.oversample
         }
