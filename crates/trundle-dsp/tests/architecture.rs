@@ -13,12 +13,9 @@
 //! editor's widgets); a cell may name several.
 
 use std::collections::BTreeSet;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-/// The workspace root (two levels above this crate).
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
+use trundle_test_support::tree::workspace_root as root;
 
 /// The backticked spans of a piece of Markdown: `` `a` and `b` `` → ["a", "b"].
 fn code_spans(text: &str) -> Vec<&str> {
@@ -206,23 +203,7 @@ fn prose_code_spans(page: &str) -> Vec<String> {
     out
 }
 
-/// README.md and every `.md` under docs/.
-fn doc_pages() -> Vec<PathBuf> {
-    fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
-        for entry in std::fs::read_dir(dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display())) {
-            let path = entry.expect("a directory entry").path();
-            if path.is_dir() {
-                walk(&path, out);
-            } else if path.extension().is_some_and(|x| x == "md") {
-                out.push(path);
-            }
-        }
-    }
-    let mut out = vec![root().join("README.md")];
-    walk(&root().join("docs"), &mut out);
-    out.sort();
-    out
-}
+use trundle_test_support::tree::doc_pages;
 
 /// A code span that names a path from the workspace root: its first word, when it starts
 /// with a top-level folder and holds no pattern (`*`, `{n}`, `…`).

@@ -4,30 +4,12 @@
 //! well under a second.
 
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
-/// The workspace root (two levels above this crate).
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
+use trundle_test_support::tree::workspace_root as root;
 
-/// README.md and every `.md` under docs/, sorted.
 fn pages() -> Vec<PathBuf> {
-    fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
-        let entries = std::fs::read_dir(dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display()));
-        for entry in entries {
-            let path = entry.expect("a directory entry").path();
-            if path.is_dir() {
-                walk(&path, out);
-            } else if path.extension().is_some_and(|x| x == "md") {
-                out.push(path);
-            }
-        }
-    }
-    let mut out = vec![root().join("README.md")];
-    walk(&root().join("docs"), &mut out);
-    out.sort();
-    out
+    trundle_test_support::tree::doc_pages()
 }
 
 /// The page's lines outside fenced code blocks (```` ``` ```` or `~~~`).
@@ -265,38 +247,13 @@ fn links_are_read_outside_code_only() {
     assert!(!is_external("#anchor"));
 }
 
-/// Every `.rs` file of the workspace outside `target/`.
-fn rust_files() -> Vec<PathBuf> {
-    fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
-        let Ok(entries) = std::fs::read_dir(dir) else {
-            return;
-        };
-        for entry in entries {
-            let path = entry.expect("a directory entry").path();
-            let name = path.file_name().map(|n| n.to_string_lossy().into_owned());
-            if path.is_dir() {
-                if !matches!(name.as_deref(), Some("target" | ".git")) {
-                    walk(&path, out);
-                }
-            } else if path.extension().is_some_and(|x| x == "rs") {
-                out.push(path);
-            }
-        }
-    }
-    let mut out = Vec::new();
-    for top in ["crates", "tests", "xtask"] {
-        walk(&root().join(top), &mut out);
-    }
-    out
-}
-
 #[test]
 fn code_cites_guide_pages_not_readme_sections() {
     // The README is a newcomer's page; the manual's sections live in docs/guide/. A comment
     // that sends a reader to a README section by name points at nothing.
     let needle = ["README", " \""].concat();
     let mut stale = Vec::new();
-    for file in rust_files() {
+    for file in trundle_test_support::tree::workspace_rust_files() {
         let text = std::fs::read_to_string(&file).expect("a readable source file");
         for (i, line) in text.lines().enumerate() {
             if line.contains(&needle) {

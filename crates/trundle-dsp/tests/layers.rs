@@ -8,7 +8,7 @@
 //! Import circles of more than two files are kept out by the same order (a circle has to
 //! cross a layer upwards unless it stays inside one folder).
 
-use std::path::{Path, PathBuf};
+use trundle_test_support::tree::{files_with_extension, workspace_root, workspace_rust_files};
 
 /// The layers, lowest first; a top-level module of `trundle-dsp/src` per name.
 const LAYERS: &[&[&str]] = &[
@@ -26,29 +26,8 @@ const LAYERS: &[&[&str]] = &[
 /// The longest source file the house allows (lines).
 const MAX_LINES: usize = 700;
 
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
 fn layer_of(module: &str) -> Option<usize> {
     LAYERS.iter().position(|l| l.contains(&module))
-}
-
-fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
-    let Ok(entries) = std::fs::read_dir(dir) else {
-        return;
-    };
-    for e in entries.flatten() {
-        let p = e.path();
-        if p.is_dir() {
-            if p.file_name().is_some_and(|n| n == "target") {
-                continue;
-            }
-            rust_files(&p, out);
-        } else if p.extension().is_some_and(|x| x == "rs") {
-            out.push(p);
-        }
-    }
 }
 
 /// The top-level modules a line of code names as `crate::name`.
@@ -71,9 +50,8 @@ fn crate_paths(line: &str) -> Vec<&str> {
 
 #[test]
 fn no_module_names_a_layer_above_its_own() {
-    let src = root().join("crates/trundle-dsp/src");
-    let mut files = Vec::new();
-    rust_files(&src, &mut files);
+    let src = workspace_root().join("crates/trundle-dsp/src");
+    let files = files_with_extension(&src, "rs");
     assert!(files.len() > 50, "read {} files under {src:?}", files.len());
     let mut upward = Vec::new();
     for file in &files {
@@ -128,11 +106,8 @@ fn the_path_reader_sees_crate_paths_only() {
 
 #[test]
 fn no_source_file_is_over_700_lines() {
-    let root = root();
-    let mut files = Vec::new();
-    for dir in ["crates", "tests", "xtask"] {
-        rust_files(&root.join(dir), &mut files);
-    }
+    let root = workspace_root();
+    let files = workspace_rust_files();
     assert!(files.len() > 100, "read {} files", files.len());
     let long: Vec<String> = files
         .iter()

@@ -12,6 +12,7 @@
 //! * [`stats`]: mean and deviation, a least-squares line.
 //! * [`levels`]: peak and RMS levels, channels of interleaved frames.
 //! * [`cli`]: the `trundle` binary, run in a folder, and what it printed.
+//! * [`tree`]: the repository's own files (sources, doc pages) for the layout and docs tests.
 //! * [`data`]: data from outside the repository (the recordings of Debian's
 //!   hydrogen-drumkits), required by the tests marked `#[ignore = "needs …"]`.
 
@@ -24,4 +25,5 @@ pub mod levels;
 pub mod scene;
 pub mod scratch;
 pub mod stats;
+pub mod tree;
 pub mod wav;
