@@ -29,6 +29,8 @@ mod analyze;
 mod atomic;
 mod bench;
 mod calibrate;
+mod compare_cmd;
+mod compare_plot;
 mod error;
 mod fit_cmd;
 mod fit_plot;
@@ -94,6 +96,9 @@ enum Command {
     FitRoll(fit_roll::FitRollArgs),
     /// Third-octave spectra of recordings side by side (table, JSON or a PNG plot).
     Spectrum(spectrum::SpectrumArgs),
+    /// How close a sound is to a recording: spectrum, modulation, texture statistics and
+    /// impulsiveness, each with its limit and a verdict.
+    Compare(compare_cmd::CompareArgs),
 }
 
 /// Print to stdout; a closed pipe (`trundle params | head`) ends quietly, not in a panic.
@@ -128,6 +133,7 @@ fn main() -> ExitCode {
         Command::FitObject(args) => fit_cmd::run(args).and_then(|t| emit(&t)),
         Command::FitRoll(args) => fit_roll::run(args).and_then(|t| emit(&t)),
         Command::Spectrum(args) => spectrum::run(args).and_then(|t| emit(&t)),
+        Command::Compare(args) => compare_cmd::run(args).and_then(|t| emit(&t)),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

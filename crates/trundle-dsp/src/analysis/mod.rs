@@ -4,6 +4,8 @@
 //! one short-time Fourier transform (`stft`). Depends only on [`crate::block`]: the object
 //! (a fitted object's spectrum) and the fitting read it; it reads nothing of the model.
 
+#[cfg(feature = "fit")]
+pub mod compare;
 pub mod impacts;
 #[cfg(feature = "fit")]
 pub mod stft;
