@@ -23,7 +23,7 @@ pub mod statistics;
 use envelopes::{band_envelopes, BandEnvelopes};
 use modulation::{modulation_distance_db, modulation_spectrum, ModulationSpectrum};
 use spectrum::{long_term_spectrum, spectrum_distance_db, LongTermSpectrum};
-use statistics::{half_spread, texture_distance, texture_stats, TextureStats};
+use statistics::{texture_distance, texture_stats, TextureStats};
 
 /// Long-term spectrum limit (dB, RMS over third-octave bands).
 pub const SPECTRUM_LIMIT_DB: f64 = 3.5;
@@ -53,7 +53,7 @@ pub struct Profile {
     pub modulation: ModulationSpectrum,
     /// Texture statistics of the band envelopes.
     pub stats: TextureStats,
-    /// Units of each statistic: the half-vs-half spread ([`statistics::half_spread`]).
+    /// Units of each statistic: the expected half-vs-half spread ([`statistics::units`]).
     pub units: Vec<f64>,
     /// Waveform kurtosis.
     pub kurtosis: f64,
@@ -115,11 +115,7 @@ pub fn profile(
     }
     let top_hz = top_hz.min(TOP_HZ).min(0.5 * sample_rate_hz);
     let env: BandEnvelopes = band_envelopes(x, sample_rate_hz, top_hz);
-    let half = env.frames() / 2;
-    let units = half_spread(
-        &texture_stats(&env.slice(0, half)),
-        &texture_stats(&env.slice(half, 2 * half)),
-    );
+    let units = statistics::units(&env);
     Ok(Profile {
         duration_s: seconds,
         top_hz,

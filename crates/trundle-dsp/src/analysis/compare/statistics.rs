@@ -9,10 +9,14 @@
 //!
 //! **The distance.** How far a candidate's statistics may lie from a recording's depends on
 //! how much they wander within the recording itself. Each statistic's unit is the
-//! recording's *half-vs-half spread*: the difference between the statistic of its first
-//! and its second half, floored at [`FLOORS`] (a half may match its other half by chance).
-//! The distance is the mean, over all statistics, of |candidate − recording| in those units;
-//! the issue #25 judge's limit is [`super::TEXTURE_LIMIT`].
+//! recording's *half-vs-half spread*: how much the statistic of one half of it differs from
+//! the other's. One such difference is itself a noisy number (two halves may agree by
+//! chance), so it is estimated from [`SEGMENTS`] equal segments: their standard deviation
+//! σ_seg, scaled to half the length (a statistic's spread goes as 1/√length:
+//! σ_half = σ_seg·√(2/[`SEGMENTS`])), times E|N(0, 2)| = 2/√π for the expected |difference|
+//! of two halves; floored at [`FLOORS`]. The distance is the mean, over all statistics, of
+//! |candidate − recording| in those units; the issue #25 judge's limit is
+//! [`super::TEXTURE_LIMIT`].
 
 use super::envelopes::BandEnvelopes;
 
@@ -109,18 +113,30 @@ fn pearson(a: &[f64], b: &[f64]) -> f64 {
     }
 }
 
-/// The units of each statistic of a recording: its half-vs-half spread, floored.
-pub fn half_spread(first: &TextureStats, second: &TextureStats) -> Vec<f64> {
-    first
-        .values()
-        .iter()
-        .zip(second.values())
-        .map(|(&(kind, a), (_, b))| (a - b).abs().max(FLOORS[kind]))
+/// Segments a recording is cut into to estimate its half-vs-half spread.
+pub const SEGMENTS: usize = 8;
+
+/// The units of each statistic of a recording: its expected half-vs-half spread, from
+/// [`SEGMENTS`] segments (module docs), floored.
+pub fn units(env: &BandEnvelopes) -> Vec<f64> {
+    let len = env.frames() / SEGMENTS;
+    let segs: Vec<Vec<(usize, f64)>> = (0..SEGMENTS)
+        .map(|k| texture_stats(&env.slice(k * len, (k + 1) * len)).values())
+        .collect();
+    let scale = (2.0 / SEGMENTS as f64).sqrt() * 2.0 / core::f64::consts::PI.sqrt();
+    (0..segs[0].len())
+        .map(|i| {
+            let kind = segs[0][i].0;
+            let mean = segs.iter().map(|s| s[i].1).sum::<f64>() / SEGMENTS as f64;
+            let var =
+                segs.iter().map(|s| (s[i].1 - mean).powi(2)).sum::<f64>() / (SEGMENTS - 1) as f64;
+            (scale * var.sqrt()).max(FLOORS[kind])
+        })
         .collect()
 }
 
 /// Each statistic's deviation `candidate − reference` in units of `units` (from
-/// [`half_spread`]), and the mean of their magnitudes: the texture distance.
+/// [`units`]), and the mean of their magnitudes: the texture distance.
 pub fn texture_distance(
     reference: &TextureStats,
     candidate: &TextureStats,
