@@ -242,7 +242,9 @@ impl ContactStream {
                 .position(|sl| sl.track.is_some_and(|(_, v)| v == voice));
             let k = match found {
                 Some(k) => {
-                    self.slots[k].voice.set_params(&p);
+                    if *self.slots[k].voice.params() != p {
+                        self.slots[k].voice.set_params(&p);
+                    }
                     self.slots[k].aim(gains, self.ramp_samples);
                     k
                 }
@@ -269,9 +271,11 @@ impl ContactStream {
                     k
                 }
             };
-            let sl = &mut self.slots[k];
-            sl.strike.set_params(&p);
             if t.strike_m_s > 0.0 {
+                // The object takes the contact's controls only when struck: between strikes
+                // it rings as it was struck.
+                let sl = &mut self.slots[k];
+                sl.strike.set_params(&p);
                 sl.strike.strike(t.strike_m_s);
             }
         }
@@ -296,8 +300,8 @@ impl ContactStream {
                 p.set_clamped(ParamId::GainDb, p.get(ParamId::GainDb) + extra_db);
                 let sl = &mut self.crowd;
                 sl.voice.set_params(&p);
-                sl.strike.set_params(&p);
                 if crowd.strikes_m_s > 0.0 {
+                    sl.strike.set_params(&p);
                     sl.strike.strike(crowd.strikes_m_s);
                 }
                 sl.release_left = self.release_samples;
