@@ -15,6 +15,7 @@
 //! | `balls_1000_ns_per_sample`, `balls_1000_realtime_factor` | one voice with `crowd = 1000` ([`trundle_dsp::scene::crowd`]: 8 detailed balls, 991 merged) on its 32-mode object, and its real-time factor on one core (target ≥ 2) |
 //! | `source_ns_per_sample` | the signal source alone ([`trundle_dsp::source::chain::Source`]: series, pulses, AM, velocity low-pass) at the default controls, in chunks of [`CHUNK`]: no position stage, DC blocker or bank |
 //! | `idle_ns_per_sample` | a voice whose ball is at rest and whose object has rung out |
+//! | `contacts16_ns_per_sample`, `contact_voices_per_core` | the runtime's contact stream ([`trundle_runtime::ContactStream`]) driven by a recorded contact stream of 16 balls (60 Hz frames: rolling at varied speeds, drop-outs, strikes), 16 voices of their own: its cost per output sample, and the contact voices one core sustains at 48 kHz |
 //!
 //! plus the bank and the voice at 8/32/128 modes, the real-time factor (seconds of audio
 //! per second of computing) and the voices one core sustains. Everything printed is measured
@@ -171,6 +172,69 @@ fn modal_ns(budget: Duration, modes: usize) -> f64 {
     ns / modes as f64
 }
 
+/// Balls in the contact-driven scene.
+const CONTACT_BALLS: usize = 16;
+
+/// A recorded contact stream: one second of 60 Hz frames of [`CONTACT_BALLS`] 2 cm balls
+/// rolling across a table at varied speeds, each losing its contact for a frame now and then
+/// and striking now and then (what a physics engine reports).
+fn recorded_contacts() -> Vec<Vec<trundle_runtime::Contact>> {
+    use trundle_runtime::Contact;
+    (0..60usize)
+        .map(|k| {
+            (0..CONTACT_BALLS)
+                .filter(|&i| (k + 3 * i) % 17 != 0)
+                .map(|i| {
+                    let speed = 0.1 + 0.05 * i as f64 + 0.05 * (k as f64 * 0.2).sin();
+                    Contact {
+                        tangential_speed_m_s: speed,
+                        angular_speed_rad_s: speed / 0.02,
+                        radius_m: 0.02,
+                        normal_speed_m_s: if (k + i) % 20 == 0 { 0.8 } else { 0.0 },
+                        point_m: [-0.8 + 0.1 * i as f64, 0.0, 0.0],
+                        normal: [0.0, -1.0, 0.0],
+                        normal_impulse_n_s: 0.8 / 60.0,
+                        materials: [0, (i % 2) as u16],
+                        ..Contact::new(i as u64, i as u64)
+                    }
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// ns per output sample of the contact stream playing [`recorded_contacts`] (update and
+/// render, 800 frames per 60 Hz frame), one second of audio per repetition.
+fn contacts_ns(budget: Duration) -> Result<f64, CliError> {
+    use trundle_runtime::{ContactStream, Material, StreamSettings};
+    let settings = StreamSettings {
+        max_voices: CONTACT_BALLS,
+        ..StreamSettings::default()
+    };
+    let mut stream = ContactStream::new(settings, &[Material::wood(), Material::metal()])
+        .map_err(|e| failure(format!("bench contact stream: {e}")))?;
+    let frames = recorded_contacts();
+    let per_frame = (FS / 60.0) as usize;
+    let (mut l, mut r) = (vec![0f32; per_frame], vec![0f32; per_frame]);
+    let mut failed = None;
+    let ns = best_ns(budget, frames.len() * per_frame, || {
+        for f in &frames {
+            if let Err(e) = stream
+                .update(f)
+                .and_then(|()| stream.render(&mut l, &mut r))
+            {
+                failed = Some(e);
+            }
+            stream.drain_events(|_| {});
+            black_box(&l);
+        }
+    });
+    match failed {
+        Some(e) => Err(failure(format!("bench contact stream: {e}"))),
+        None => Ok(ns),
+    }
+}
+
 /// Every measurement.
 struct Report {
     kernel: Kernel,
@@ -182,6 +246,8 @@ struct Report {
     balls16: f64,
     balls1000: f64,
     idle: f64,
+    /// The contact stream with 16 balls (ns per output sample).
+    contacts16: f64,
     /// The 32-mode voice with its high band off (measured beside the one with it).
     no_high_band: f64,
     /// The 32-mode voice with its high band, measured beside `no_high_band`.
@@ -240,6 +306,7 @@ fn measure(quick: bool) -> Result<Report, CliError> {
         }
     }
     let idle = voices_ns(budget, std::slice::from_mut(&mut idle));
+    let contacts16 = contacts_ns(budget)?;
     Ok(Report {
         kernel: Kernel::detect(),
         modal,
@@ -250,6 +317,7 @@ fn measure(quick: bool) -> Result<Report, CliError> {
         balls16,
         balls1000,
         idle,
+        contacts16,
         no_high_band: without_hb,
         with_high_band: with_hb,
     })
@@ -262,6 +330,11 @@ fn at(rows: &[(usize, f64)], modes: usize) -> f64 {
 /// Seconds of audio per second of computing.
 fn realtime(ns_per_sample: f64) -> f64 {
     1e9 / FS / ns_per_sample
+}
+
+/// Contact voices one core sustains at 48 kHz: the 16 voices times the real-time factor.
+fn contact_voices_per_core(ns_per_sample: f64) -> f64 {
+    (CONTACT_BALLS as f64 * realtime(ns_per_sample)).floor()
 }
 
 fn verdict(value: f64, target: f64) -> String {
@@ -330,6 +403,12 @@ fn table(r: &Report) -> String {
         100.0 * r.idle / at(&r.voice, 32)
     );
     s += &format!(
+        "contacts, 16 balls    {:>9.1} ns/sample   real-time ×{:.0}   {:.0} contact voices/core\n",
+        r.contacts16,
+        realtime(r.contacts16),
+        contact_voices_per_core(r.contacts16)
+    );
+    s += &format!(
         "\ntargets: bank ≤ {TARGET_MODAL} ns/mode·sample at 128 modes: {}; voice ≤ {TARGET_VOICE} ns/sample at 32 modes: {}; source ≤ {TARGET_SOURCE} ns/sample: {}; crowd of 1000 ≥ ×{TARGET_BALLS_1000_REALTIME} real time: {}; physics ≤ {TARGET_PHYSICS} ns/sample at 32 modes: {}; high band ≤ ×{TARGET_HIGH_BAND}: {}\n",
         verdict(at(&r.modal, 128), TARGET_MODAL),
         verdict(at(&r.voice, 32), TARGET_VOICE),
@@ -368,6 +447,8 @@ fn to_json(r: &Report) -> String {
         "balls_1000_ns_per_sample": r.balls1000,
         "balls_1000_realtime_factor": realtime(r.balls1000),
         "idle_ns_per_sample": r.idle,
+        "contacts16_ns_per_sample": r.contacts16,
+        "contact_voices_per_core": contact_voices_per_core(r.contacts16),
         "voice_no_high_band_ns_per_sample": r.no_high_band,
         "voice_with_high_band_ns_per_sample": r.with_high_band,
         "high_band_cost_ratio": r.with_high_band / r.no_high_band,

@@ -32,6 +32,10 @@ fn bench_json_has_every_timing() {
     assert!(crowd > voice * 0.5, "crowd {crowd} ns vs voice {voice} ns");
     assert!(get("balls_1000_realtime_factor") > 1.0);
     get("idle_ns_per_sample");
+    // The contact-driven scene (16 balls through the runtime's contact stream) runs faster
+    // than real time even in a quick, disturbed run: at least its 16 voices per core.
+    get("contacts16_ns_per_sample");
+    assert!(get("contact_voices_per_core") >= 16.0);
     get("voice_realtime_factor");
     get("voices_per_core");
     assert!(v["kernel"].is_string());
