@@ -36,6 +36,36 @@
 #define TRUNDLE_ERROR_BYTES 512
 
 /**
+ * Most contact pairs a stream may track.
+ */
+#define TRUNDLE_MAX_STREAM_PAIRS 4096
+
+/**
+ * Most voices of their own a stream may have (each costs a voice and one ringing out).
+ */
+#define TRUNDLE_MAX_STREAM_VOICES 64
+
+/**
+ * Most log events a stream may keep between polls.
+ */
+#define TRUNDLE_MAX_STREAM_EVENTS (1 << 20)
+
+/**
+ * `trundle_material_default`: a wooden table.
+ */
+#define TRUNDLE_MATERIAL_WOOD 0
+
+/**
+ * `trundle_material_default`: a metal plate or tray.
+ */
+#define TRUNDLE_MATERIAL_METAL 1
+
+/**
+ * `trundle_material_default`: a glass or ceramic bowl.
+ */
+#define TRUNDLE_MATERIAL_GLASS 2
+
+/**
  * The outcome of a call. Every function of the ABI that can fail returns one; on any value
  * but `TRUNDLE_STATUS_OK` nothing was changed and `trundle_last_error()` says why.
  */
@@ -93,9 +123,256 @@ typedef enum TrundleStatus {
 } TrundleStatus;
 
 /**
+ * What happened to a voice (`TrundleEvent::kind`).
+ */
+typedef enum TrundleEventKind {
+  /**
+   * A voice started for a new pair.
+   */
+  TRUNDLE_EVENT_KIND_START = 0,
+  /**
+   * The bodies struck: `value` is the normal speed (m/s).
+   */
+  TRUNDLE_EVENT_KIND_IMPACT = 1,
+  /**
+   * The voice's action changed: `detail` is 1 (roll) or 2 (rub).
+   */
+  TRUNDLE_EVENT_KIND_MOTION = 2,
+  /**
+   * The voice ended: `detail` is 0 (rest), 1 (lost) or 2 (removed).
+   */
+  TRUNDLE_EVENT_KIND_END = 3,
+} TrundleEventKind;
+
+/**
+ * A preset rendered as a stream (opaque to C).
+ */
+typedef struct TrundleScene TrundleScene;
+
+/**
+ * A contact stream (opaque to C).
+ */
+typedef struct TrundleStream TrundleStream;
+
+/**
  * A live voice (opaque to C).
  */
 typedef struct TrundleVoice TrundleVoice;
+
+/**
+ * How a stream is built (`trundle_stream_settings_default` fills in the defaults).
+ */
+typedef struct TrundleStreamSettings {
+  /**
+   * Audio sample rate (Hz, 8000–384000).
+   */
+  double sample_rate_hz;
+  /**
+   * Physics frames per second (the rate of end-frame / update calls).
+   */
+  double frame_rate_hz;
+  /**
+   * Contact pairs tracked at once (1–4096).
+   */
+  uint32_t max_pairs;
+  /**
+   * Voices of their own, the loudest pairs (1–64); the rest share one crowd voice.
+   */
+  uint32_t max_voices;
+  /**
+   * Random seed (0–16777215).
+   */
+  uint64_t seed;
+  /**
+   * Frames a contact may be missing and still sound as it did.
+   */
+  uint32_t dropout_frames;
+  /**
+   * Frames a contact may be missing (in the air) before its voice ends (≥ dropout).
+   */
+  uint32_t linger_frames;
+  /**
+   * Frames at rest before the voice ends (≥ 1).
+   */
+  uint32_t rest_frames;
+  /**
+   * Log events kept between polls (0–1048576).
+   */
+  uint32_t event_capacity;
+  /**
+   * A normal approach faster than this strikes (m/s).
+   */
+  double impact_speed_m_s;
+  /**
+   * Below this speed the contact is at rest (m/s).
+   */
+  double rest_speed_m_s;
+  /**
+   * Slip ratio from which a contact rubs rather than rolls.
+   */
+  double rub_slip;
+  /**
+   * The ball radius heard as size 1 (m).
+   */
+  double full_size_radius_m;
+  /**
+   * The load heard at 0 dB (N).
+   */
+  double reference_load_n;
+  /**
+   * The voice's velocity control per m/s of rolling speed.
+   */
+  double speed_scale;
+  /**
+   * Amplitude of a strike per (m/s)^1.2 of approach.
+   */
+  double impact_gain;
+  /**
+   * The listener's position (m).
+   */
+  double listener_position_m[3];
+  /**
+   * The listener's right-hand direction.
+   */
+  double listener_right[3];
+  /**
+   * Distance under which the level no longer rises (m).
+   */
+  double listener_reference_distance_m;
+} TrundleStreamSettings;
+
+/**
+ * What a body is made of, as Trundle's controls.
+ */
+typedef struct TrundleMaterial {
+  /**
+   * Material disk x (wood at angle 0, metal at 2π/3, glass at 4π/3).
+   */
+  double material_x;
+  /**
+   * Material disk y.
+   */
+  double material_y;
+  /**
+   * The object's characteristic length (m).
+   */
+  double object_size_m;
+  /**
+   * The object's mode series: 0 string, 1 bar, 2 plate, 3 shell.
+   */
+  uint32_t shape;
+  /**
+   * Decay time multiplier.
+   */
+  double decay;
+  /**
+   * Surface roughness 0…1.
+   */
+  double roughness;
+} TrundleMaterial;
+
+/**
+ * One touching pair in one physics frame (SI units). The first body is the one that rolls,
+ * slides or strikes (a ball); the second is what it touches, whose material rings.
+ */
+typedef struct TrundleContact {
+  /**
+   * The engine's id of the pair, stable while the two bodies touch.
+   */
+  uint64_t pair;
+  /**
+   * The moving body (for the log and the image).
+   */
+  uint64_t body;
+  /**
+   * Relative normal speed (m/s), positive when the bodies approach.
+   */
+  double normal_speed_m_s;
+  /**
+   * Speed of the moving body's centre along the surface, relative to the other (m/s, ≥ 0).
+   */
+  double tangential_speed_m_s;
+  /**
+   * The moving body's spin about the axis in the contact plane (rad/s, ≥ 0).
+   */
+  double angular_speed_rad_s;
+  /**
+   * The moving body's rolling radius (m, > 0).
+   */
+  double radius_m;
+  /**
+   * Contact point, world coordinates (m).
+   */
+  double point_m[3];
+  /**
+   * Contact normal (world, any length).
+   */
+  double normal[3];
+  /**
+   * Normal impulse over the frame (N·s, ≥ 0).
+   */
+  double normal_impulse_n_s;
+  /**
+   * Materials (indices into the stream's list): `[moving body, what it touches]`.
+   */
+  uint16_t materials[2];
+} TrundleContact;
+
+/**
+ * One entry of the voice log.
+ */
+typedef struct TrundleEvent {
+  /**
+   * The physics frame (0 = the first end-frame or update).
+   */
+  uint64_t frame;
+  /**
+   * The voice (numbered from 0 in start order, never reused).
+   */
+  uint64_t voice;
+  /**
+   * The contact pair.
+   */
+  uint64_t pair;
+  /**
+   * The moving body.
+   */
+  uint64_t body;
+  /**
+   * What happened.
+   */
+  enum TrundleEventKind kind;
+  /**
+   * For `Motion`: 1 roll, 2 rub; for `End`: 0 rest, 1 lost, 2 removed; else 0.
+   */
+  uint32_t detail;
+  /**
+   * For `Impact`: the normal speed (m/s); else 0.
+   */
+  double value;
+} TrundleEvent;
+
+/**
+ * Counts of a stream, for meters and tests.
+ */
+typedef struct TrundleStreamStats {
+  /**
+   * Voices started since creation (one per pair, however long it touched).
+   */
+  uint64_t voices_started;
+  /**
+   * Voices rendered now (their own contact, or ringing out), the crowd's included.
+   */
+  uint32_t voices_sounding;
+  /**
+   * Contacts merged into the crowd voice in the last frame.
+   */
+  uint32_t crowd_count;
+  /**
+   * Log events lost because they were not polled in time.
+   */
+  uint64_t dropped_events;
+} TrundleStreamStats;
 
 #ifdef __cplusplus
 extern "C" {
@@ -135,11 +412,204 @@ enum TrundleStatus trundle_param_find(const char *key, uint32_t *out_id);
 enum TrundleStatus trundle_param_range(uint32_t id, double *out_min, double *out_max, double *out_default);
 
 /**
+ * Create a scene: the preset `name_or_json` (a built-in preset's name such as `"default"`,
+ * or a preset's JSON text) at `sample_rate_hz` (8000–384000) with random seed `seed`
+ * (0–16777215; it replaces the preset's, as `trundle render --seed` does). Writes the
+ * handle to `out_scene`. Allocates.
+ *
+ * # Safety
+ * `name_or_json` is null or a NUL-terminated string; `out_scene` is null or writable.
+ */
+enum TrundleStatus trundle_scene_create(const char *name_or_json, double sample_rate_hz, uint64_t seed, struct TrundleScene **out_scene);
+
+/**
+ * Destroy a scene. Null is a no-op; a handle already destroyed is refused. Frees memory:
+ * call off the audio thread.
+ */
+enum TrundleStatus trundle_scene_destroy(struct TrundleScene *scene);
+
+/**
+ * Set the control with stable ID `id` (`TRUNDLE_PARAM_…`) to `value`, as `trundle render
+ * --set` does (the preset's automation of it is dropped). Before the first frame the scene
+ * starts from the new value; later it glides to it. Real-time safe.
+ */
+enum TrundleStatus trundle_scene_set_param(struct TrundleScene *scene, uint32_t id, double value);
+
+/**
+ * Set the control named `key` to `value` (as `trundle_scene_set_param`).
+ *
+ * # Safety
+ * `key` is null or a NUL-terminated string.
+ */
+enum TrundleStatus trundle_scene_set_param_key(struct TrundleScene *scene, const char *key, double value);
+
+/**
+ * Set the control named `key` from text, as `trundle render --set key=text` reads it (a
+ * number with an optional unit, a percentage, or a choice's name: `limiter` = `off`).
+ *
+ * # Safety
+ * `key` and `text` are null or NUL-terminated strings.
+ */
+enum TrundleStatus trundle_scene_set_param_text(struct TrundleScene *scene, const char *key, const char *text);
+
+/**
+ * Read the control with stable ID `id` (the preset's value or the one set; automation
+ * lanes not applied) into `out_value`.
+ *
+ * # Safety
+ * `out_value` is null or writable.
+ */
+enum TrundleStatus trundle_scene_get_param(struct TrundleScene *scene, uint32_t id, double *out_value);
+
+/**
+ * Frames rendered since the scene was created, into `out_frames`.
+ *
+ * # Safety
+ * `out_frames` is null or writable.
+ */
+enum TrundleStatus trundle_scene_frames_done(struct TrundleScene *scene, uint64_t *out_frames);
+
+/**
+ * The safety limiter's delay in frames when `limiter` is on (0 when off), into
+ * `out_frames`.
+ *
+ * # Safety
+ * `out_frames` is null or writable.
+ */
+enum TrundleStatus trundle_scene_latency_frames(struct TrundleScene *scene, size_t *out_frames);
+
+/**
+ * Render the next `frames` stereo frames into `left` and `right` (two separate buffers of
+ * `frames` floats each, overwritten; they must not overlap). Real-time safe.
+ *
+ * # Safety
+ * `left` and `right` are null or point to `frames` writable floats each.
+ */
+enum TrundleStatus trundle_scene_render(struct TrundleScene *scene, float *left, float *right, size_t frames);
+
+/**
+ * Render the next `frames` stereo frames into `out`, interleaved (`L0 R0 L1 R1 …`,
+ * `2 × frames` floats); the samples equal those of `trundle_scene_render`. Real-time safe.
+ *
+ * # Safety
+ * `out` is null or points to `2 × frames` writable floats.
+ */
+enum TrundleStatus trundle_scene_render_interleaved(struct TrundleScene *scene, float *out, size_t frames);
+
+/**
  * The calling thread's last error as a NUL-terminated UTF-8 string: why the last call on
  * this thread failed, or "" if it succeeded. Never null. The pointer stays valid until the
  * next call into the library on this thread (which overwrites the text); copy it to keep it.
  */
 const char *trundle_last_error(void);
+
+/**
+ * Fill `out` with the default stream settings (48 kHz audio, 60 Hz physics, 64 pairs,
+ * 8 voices, balls of a few centimetres, the listener 2 m in front of the origin).
+ *
+ * # Safety
+ * `out` is null or writable.
+ */
+enum TrundleStatus trundle_stream_settings_default(struct TrundleStreamSettings *out);
+
+/**
+ * Fill `out` with a ready-made material: `TRUNDLE_MATERIAL_WOOD`, `_METAL` or `_GLASS`.
+ *
+ * # Safety
+ * `out` is null or writable.
+ */
+enum TrundleStatus trundle_material_default(uint32_t which, struct TrundleMaterial *out);
+
+/**
+ * Create a stream with `settings` and the `count` materials contacts may name (by index;
+ * 1–65536). Writes the handle to `out_stream`. Allocates every voice it will use.
+ *
+ * # Safety
+ * `settings` is null or readable; `materials` is null or points to `count` readable
+ * materials; `out_stream` is null or writable.
+ */
+enum TrundleStatus trundle_stream_create(const struct TrundleStreamSettings *settings, const struct TrundleMaterial *materials, size_t count, struct TrundleStream **out_stream);
+
+/**
+ * Destroy a stream. Null is a no-op; a handle already destroyed is refused.
+ */
+enum TrundleStatus trundle_stream_destroy(struct TrundleStream *stream);
+
+/**
+ * Add one touching pair to the frame being submitted. A record with a NaN, a negative
+ * speed or radius, an unknown material, a pair already in this frame, or more pairs than
+ * `max_pairs`, is refused (`TRUNDLE_STATUS_BAD_CONTACT`) and the frame keeps what it had.
+ *
+ * # Safety
+ * `contact` is null or readable.
+ */
+enum TrundleStatus trundle_stream_submit(struct TrundleStream *stream, const struct TrundleContact *contact);
+
+/**
+ * End the physics frame: the submitted pairs (none: nothing touches) update the voices.
+ * The submitted list is then emptied, whether the frame was taken or refused (a refusal —
+ * more new pairs than there is room for — leaves the voices as they were).
+ */
+enum TrundleStatus trundle_stream_end_frame(struct TrundleStream *stream);
+
+/**
+ * One whole physics frame at once: the `count` pairs touching now (`contacts` may be null
+ * when `count` is 0). All are checked first; any bad record refuses the frame and nothing
+ * changes. Refused while a frame is being submitted contact by contact.
+ *
+ * # Safety
+ * `contacts` is null or points to `count` readable records.
+ */
+enum TrundleStatus trundle_stream_update(struct TrundleStream *stream, const struct TrundleContact *contacts, size_t count);
+
+/**
+ * End the voice of `pair` now (it rings out); an unknown pair is refused.
+ */
+enum TrundleStatus trundle_stream_remove_pair(struct TrundleStream *stream, uint64_t pair);
+
+/**
+ * Move the listener: position (m), right-hand direction, and the distance under which the
+ * level no longer rises (m). The image follows from the next frame.
+ *
+ * # Safety
+ * `position_m` and `right` are null or point to 3 readable doubles each.
+ */
+enum TrundleStatus trundle_stream_set_listener(struct TrundleStream *stream, const double *position_m, const double *right, double reference_distance_m);
+
+/**
+ * Render the next `frames` stereo frames into `left` and `right` (separate buffers of
+ * `frames` floats each, overwritten, not overlapping). Real-time safe.
+ *
+ * # Safety
+ * `left` and `right` are null or point to `frames` writable floats each.
+ */
+enum TrundleStatus trundle_stream_render(struct TrundleStream *stream, float *left, float *right, size_t frames);
+
+/**
+ * Render the next `frames` stereo frames into `out`, interleaved (`2 × frames` floats);
+ * the samples equal those of `trundle_stream_render`. Real-time safe.
+ *
+ * # Safety
+ * `out` is null or points to `2 × frames` writable floats.
+ */
+enum TrundleStatus trundle_stream_render_interleaved(struct TrundleStream *stream, float *out, size_t frames);
+
+/**
+ * Copy up to `capacity` of the oldest unread log events into `out` and write how many to
+ * `out_count` (0 when there are none). Call until it writes fewer than `capacity`.
+ *
+ * # Safety
+ * `out` is null or points to `capacity` writable events; `out_count` is null or writable.
+ */
+enum TrundleStatus trundle_stream_poll_events(struct TrundleStream *stream, struct TrundleEvent *out, size_t capacity, size_t *out_count);
+
+/**
+ * The stream's counts, into `out`.
+ *
+ * # Safety
+ * `out` is null or writable.
+ */
+enum TrundleStatus trundle_stream_stats(struct TrundleStream *stream, struct TrundleStreamStats *out);
 
 /**
  * Create a voice at `sample_rate_hz` (8000–384000) with every control at its default, and

@@ -153,3 +153,62 @@ pub unsafe fn write<T>(out: *mut T, value: T) -> Result<(), Failure> {
     unsafe { out.write_unaligned(value) };
     Ok(())
 }
+
+/// Read one `T` from `p` (a struct the caller filled in), checked for null; alignment is
+/// not assumed.
+///
+/// # Safety
+/// `p` is null or points to a readable, initialized `T`.
+pub unsafe fn read<T: Copy>(p: *const T) -> Result<T, Failure> {
+    if p.is_null() {
+        return Err(Failure::new(
+            TrundleStatus::NullPointer,
+            "an input pointer is null",
+        ));
+    }
+    // SAFETY: non-null; the caller promises a readable, initialized value.
+    Ok(unsafe { p.read_unaligned() })
+}
+
+/// `count` records from `p` as a slice: not null, aligned, at most [`MAX_RENDER_FRAMES`].
+///
+/// # Safety
+/// `p` is null or points to `count` readable, initialized records.
+pub unsafe fn array<'a, T>(p: *const T, count: usize) -> Result<&'a [T], Failure> {
+    check_array(p, count)?;
+    // SAFETY: checked non-null and aligned; the caller promises `count` records.
+    Ok(unsafe { core::slice::from_raw_parts(p, count) })
+}
+
+/// `count` writable records at `p` as a slice: not null, aligned, at most
+/// [`MAX_RENDER_FRAMES`].
+///
+/// # Safety
+/// `p` is null or points to `count` writable records nothing else touches during the call.
+pub unsafe fn array_mut<'a, T>(p: *mut T, count: usize) -> Result<&'a mut [T], Failure> {
+    check_array(p, count)?;
+    // SAFETY: checked non-null and aligned; the caller promises `count` writable records.
+    Ok(unsafe { core::slice::from_raw_parts_mut(p, count) })
+}
+
+fn check_array<T>(p: *const T, count: usize) -> Result<(), Failure> {
+    if p.is_null() {
+        return Err(Failure::new(
+            TrundleStatus::NullPointer,
+            "an array pointer is null",
+        ));
+    }
+    if count > MAX_RENDER_FRAMES {
+        return Err(Failure::new(
+            TrundleStatus::BadSize,
+            "an array is longer than any call takes",
+        ));
+    }
+    if p as usize % align_of::<T>() != 0 {
+        return Err(Failure::new(
+            TrundleStatus::BadSize,
+            "an array pointer is not aligned for its records",
+        ));
+    }
+    Ok(())
+}

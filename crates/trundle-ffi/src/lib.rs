@@ -9,6 +9,8 @@
 //! | [`status`] | `TrundleStatus`, returned by every call that can fail; `trundle_last_error()` |
 //! | [`params`] | the parameter table: count, stable IDs (`TRUNDLE_PARAM_<KEY>`), keys, ranges |
 //! | [`voice`] | `TrundleVoice`: a live voice — controls, presets, fitted objects, note balls, render |
+//! | [`scene`] | `TrundleScene`: a whole preset (lanes, balls) as a stream, bit-exact with `trundle render` |
+//! | [`stream`] | `TrundleStream`: a physics engine's contacts in, one positioned voice per touching pair out |
 //! | `handle` | (internal) the registry that checks every handle before it is used |
 //! | `args` | (internal) C strings, buffers and numbers checked before anything is touched |
 //!
@@ -27,7 +29,9 @@
 mod args;
 mod handle;
 pub mod params;
+pub mod scene;
 pub mod status;
+pub mod stream;
 pub mod voice;
 
 use core::ffi::{c_char, CStr};

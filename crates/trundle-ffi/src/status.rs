@@ -12,6 +12,7 @@ use core::fmt::{self, Write};
 use std::cell::RefCell;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use trundle_dsp::params::ParamError;
+use trundle_runtime::RuntimeError;
 
 /// The outcome of a call. Every function of the ABI that can fail returns one; on any value
 /// but `TRUNDLE_STATUS_OK` nothing was changed and `trundle_last_error()` says why.
@@ -68,6 +69,7 @@ enum Message {
     Static(&'static str),
     Owned(String),
     Param(ParamError),
+    Runtime(RuntimeError),
 }
 
 impl Failure {
@@ -100,6 +102,25 @@ impl From<ParamError> for Failure {
         Self {
             status,
             message: Message::Param(e),
+        }
+    }
+}
+
+impl Failure {
+    /// A refusal of the runtime, with the status that names its kind: `contact` says
+    /// whether a value error concerns a contact record (`BadContact`) or a setting
+    /// (`BadValue`). Formatted into the last-error buffer without allocating.
+    pub fn runtime(e: RuntimeError, contact: bool) -> Self {
+        let status = match &e {
+            RuntimeError::Preset(_) => TrundleStatus::BadPreset,
+            RuntimeError::Param(_) | RuntimeError::SampleRate(_) => TrundleStatus::BadValue,
+            RuntimeError::BufferSizes(..) => TrundleStatus::BadSize,
+            _ if contact => TrundleStatus::BadContact,
+            _ => TrundleStatus::BadValue,
+        };
+        Self {
+            status,
+            message: Message::Runtime(e),
         }
     }
 }
@@ -159,6 +180,7 @@ pub fn guard(name: &'static str, body: impl FnOnce() -> Outcome) -> TrundleStatu
                 Message::Static(m) => set_last_error(format_args!("{name}: {m}")),
                 Message::Owned(m) => set_last_error(format_args!("{name}: {m}")),
                 Message::Param(e) => set_last_error(format_args!("{name}: {e}")),
+                Message::Runtime(e) => set_last_error(format_args!("{name}: {e}")),
             }
             f.status
         }

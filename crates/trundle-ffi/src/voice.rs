@@ -16,8 +16,8 @@ use core::ffi::c_char;
 use std::sync::Arc;
 use trundle_dsp::object::fitted::LoadedObject;
 use trundle_dsp::params::Params;
-use trundle_dsp::scene::preset::Preset;
 use trundle_dsp::Voice;
+use trundle_runtime::load_preset;
 
 /// Frames rendered per step of the interleaved render (a stack buffer per channel).
 const INTERLEAVE_STEP: usize = 256;
@@ -44,18 +44,6 @@ impl TrundleVoice {
         self.params = params;
         self.voice.set_params(&params);
     }
-}
-
-/// A built-in preset by name, or a preset's JSON text (text whose first non-blank character
-/// is `{`).
-pub(crate) fn preset_from(name_or_json: &str) -> Result<Preset, Failure> {
-    let json = name_or_json.trim_start().starts_with('{');
-    let parsed = if json {
-        Preset::from_json(name_or_json)
-    } else {
-        Preset::builtin(name_or_json)
-    };
-    parsed.map_err(|e| Failure::text(TrundleStatus::BadPreset, e.to_string()))
 }
 
 /// A fitted object file's JSON text (as `trundle fit-object` writes it), prepared for a voice.
@@ -214,7 +202,8 @@ pub unsafe extern "C" fn trundle_voice_load_preset(
     guard("trundle_voice_load_preset", || {
         handle::with(voice, |v| {
             // SAFETY: forwarded from the caller's promise.
-            let preset = preset_from(unsafe { args::text(name_or_json) }?)?;
+            let preset = load_preset(unsafe { args::text(name_or_json) }?)
+                .map_err(|e| Failure::runtime(e, false))?;
             let object = preset
                 .loaded_object()
                 .map_err(|e| Failure::text(TrundleStatus::BadPreset, e.to_string()))?;
