@@ -6,7 +6,9 @@
 //! What it runs, in order: `cargo build --release -p trundle-ffi -p trundle-cli` (the same
 //! `cargo` that runs the tests; nothing to do when CI built them already, and no deadlock:
 //! cargo holds its build lock only while it compiles, see `tests/src/bundle.rs`), `make -C
-//! examples/c LIBDIR=<target>/release` (`cc` from the PATH, or `$CC`), the example, the CLI.
+//! examples/c LIBDIR=<target>/release` (`cc` from the PATH, or `$CC`), the example, the CLI;
+//! then the contact-stream example (`examples/c/contact_stream.c`), whose voice log must show
+//! one voice for a marble that is dropped, bounces, rolls and rests.
 //! A missing C compiler or `make` fails the test: CI must be able to build the example.
 
 use std::path::{Path, PathBuf};
@@ -109,6 +111,27 @@ fn the_c_example_renders_what_the_cli_renders() {
             "seed {seed}: the render is not silent"
         );
     }
+    // The contact-stream example: a marble dropped on a table strikes, bounces, rolls and
+    // rests as ONE voice, and its sound is finite and not silent.
+    let cs_wav = dir.path().join("contact.wav");
+    let out = Command::new(examples.join("contact_stream"))
+        .arg(&cs_wav)
+        .output()
+        .unwrap();
+    let log = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "contact_stream failed:\n{log}");
+    assert!(log.contains("voices started: 1\n"), "{log}");
+    assert!(
+        log.matches(" impact ").count() >= 2,
+        "a drop and a bounce: {log}"
+    );
+    assert_eq!(log.matches(" end ").count(), 1, "{log}");
+    assert!(log.contains("rest"), "{log}");
+    let (_, samples) = read_wav(&cs_wav);
+    assert_eq!(samples.len(), 2 * 5 * 48_000);
+    assert!(samples.iter().all(|x| x.is_finite()));
+    assert!(samples.iter().any(|x| x.abs() > 1e-2), "the drop is heard");
+
     // Bad arguments are refused with a message and exit code 2, nothing written.
     let bad = Command::new(examples.join("render_default"))
         .arg(dir.path().join("bad.wav"))

@@ -16,6 +16,7 @@
 #include <string.h>
 
 #include "trundle.h"
+#include "wav.h"
 
 #define RATE_HZ 48000
 #define BLOCK_FRAMES 4096
@@ -23,41 +24,6 @@
 static int fail(const char *what) {
     fprintf(stderr, "render_default: %s: %s\n", what, trundle_last_error());
     return 1;
-}
-
-static void put_u16(unsigned char *p, uint16_t v) {
-    p[0] = (unsigned char)(v & 0xff);
-    p[1] = (unsigned char)(v >> 8);
-}
-
-static void put_u32(unsigned char *p, uint32_t v) {
-    put_u16(p, (uint16_t)(v & 0xffff));
-    put_u16(p + 2, (uint16_t)(v >> 16));
-}
-
-/* RIFF/WAVE, WAVE_FORMAT_IEEE_FLOAT (3): a WAVEFORMATEX `fmt ` chunk, the `fact` chunk that
- * non-PCM formats carry, and the `data` chunk's header. */
-static int write_header(FILE *f, uint32_t frames) {
-    unsigned char h[58];
-    uint32_t data_bytes = frames * 2u * 4u;
-    memcpy(h, "RIFF", 4);
-    put_u32(h + 4, 50u + data_bytes);
-    memcpy(h + 8, "WAVE", 4);
-    memcpy(h + 12, "fmt ", 4);
-    put_u32(h + 16, 18);                 /* fmt chunk size */
-    put_u16(h + 20, 3);                  /* IEEE float */
-    put_u16(h + 22, 2);                  /* channels */
-    put_u32(h + 24, RATE_HZ);            /* frames per second */
-    put_u32(h + 28, RATE_HZ * 2u * 4u);  /* bytes per second */
-    put_u16(h + 32, 2 * 4);              /* bytes per frame */
-    put_u16(h + 34, 32);                 /* bits per sample */
-    put_u16(h + 36, 0);                  /* no extension */
-    memcpy(h + 38, "fact", 4);
-    put_u32(h + 42, 4);
-    put_u32(h + 46, frames);             /* sample frames */
-    memcpy(h + 50, "data", 4);
-    put_u32(h + 54, data_bytes);
-    return fwrite(h, 1, sizeof h, f) == sizeof h ? 0 : -1;
 }
 
 int main(int argc, char **argv) {
@@ -94,8 +60,7 @@ int main(int argc, char **argv) {
         return 1;
     }
     static float left[BLOCK_FRAMES], right[BLOCK_FRAMES];
-    static unsigned char bytes[BLOCK_FRAMES * 8];
-    int ok = write_header(f, frames) == 0;
+    int ok = wav_write_header(f, frames, RATE_HZ) == 0;
     for (uint32_t done = 0; ok && done < frames;) {
         size_t n = frames - done < BLOCK_FRAMES ? frames - done : BLOCK_FRAMES;
         if (trundle_scene_render(scene, left, right, n) != TRUNDLE_STATUS_OK) {
@@ -103,14 +68,7 @@ int main(int argc, char **argv) {
             trundle_scene_destroy(scene);
             return fail("trundle_scene_render");
         }
-        for (size_t i = 0; i < n; i++) {
-            uint32_t l, r;
-            memcpy(&l, &left[i], 4);
-            memcpy(&r, &right[i], 4);
-            put_u32(bytes + 8 * i, l);
-            put_u32(bytes + 8 * i + 4, r);
-        }
-        ok = fwrite(bytes, 8, n, f) == n;
+        ok = wav_write_frames(f, left, right, n) == 0;
         done += (uint32_t)n;
     }
     if (fclose(f) != 0)
