@@ -20,6 +20,8 @@ pub enum RuntimeError {
     BadValue(&'static str, f64),
     /// A contact names something the stream does not know (what, its id).
     Unknown(&'static str, u64),
+    /// The same thing given twice where once is allowed (what, its id).
+    Duplicate(&'static str, u64),
     /// A pool sized at construction is full (what, its capacity).
     Full(&'static str, usize),
 }
@@ -43,6 +45,7 @@ impl fmt::Display for RuntimeError {
             }
             Self::BadValue(what, v) => write!(f, "{what} must be finite and in range, got {v}"),
             Self::Unknown(what, id) => write!(f, "unknown {what} {id}"),
+            Self::Duplicate(what, id) => write!(f, "{what} {id} given twice"),
             Self::Full(what, n) => write!(f, "no room for another {what} (capacity {n})"),
         }
     }
