@@ -136,10 +136,7 @@ impl Renderer {
                     let n = frames.len() / 2;
                     let (l, r) = (&mut left[..n], &mut right[..n]);
                     inner.render(l, r)?;
-                    for ((frame, &a), &b) in frames.chunks_exact_mut(2).zip(&*l).zip(&*r) {
-                        frame[0] = a;
-                        frame[1] = b;
-                    }
+                    interleave(frames, l, r);
                 }
                 Ok::<_, trundle_runtime::RuntimeError>(())
             })
@@ -150,9 +147,17 @@ impl Renderer {
     }
 }
 
+/// `left` and `right` into `out` as interleaved frames (`out.len()` = 2 × their length).
+pub(crate) fn interleave(out: &mut [f32], left: &[f32], right: &[f32]) {
+    for ((frame, &a), &b) in out.chunks_exact_mut(2).zip(left).zip(right) {
+        frame[0] = a;
+        frame[1] = b;
+    }
+}
+
 /// A new, uninitialized float32 array of `frames` stereo frames, through numpy (so a size
 /// that does not fit in memory raises `MemoryError` instead of aborting).
-fn empty_stereo(py: Python<'_>, frames: usize) -> PyResult<Bound<'_, PyArray2<f32>>> {
+pub(crate) fn empty_stereo(py: Python<'_>, frames: usize) -> PyResult<Bound<'_, PyArray2<f32>>> {
     let numpy = py.import("numpy")?;
     let kwargs = PyDict::new(py);
     kwargs.set_item("dtype", numpy.getattr("float32")?)?;
