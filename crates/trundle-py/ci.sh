@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# The Python package's CI step: a fresh venv under target/, the package installed with pip
+# as a user would (`pip install ./crates/trundle-py`, maturin as the build backend, a
+# release build), the `trundle` command to compare with, and the pytest tests. Run from
+# anywhere; .ci/run calls it after `cargo test --workspace`. Needs python3 with venv, and
+# PyPI reachable.
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+started=$(date +%s)
+
+python3 -c 'import venv, ensurepip' ||
+  { echo "FAILED: python3 with venv is needed for the Python package's tests"; exit 1; }
+rm -rf target/py-venv
+python3 -m venv target/py-venv
+py=target/py-venv/bin/python
+"$py" -m pip install --disable-pip-version-check -q -r crates/trundle-py/tests/requirements.txt ||
+  { echo "FAILED: pip could not install crates/trundle-py/tests/requirements.txt (is PyPI reachable?)"; exit 1; }
+"$py" -m pip install --disable-pip-version-check -q ./crates/trundle-py
+echo "Python package installed: $(( $(date +%s) - started )) s"
+
+# The command to compare with: $TRUNDLE_BIN, else the test build of trundle-cli (the one
+# `cargo test --workspace` makes, so after that step this builds nothing).
+if [ -z "${TRUNDLE_BIN:-}" ]; then
+  cargo test --locked -q -p trundle-cli --no-run
+  TRUNDLE_BIN="$PWD/target/debug/trundle"
+fi
+TRUNDLE_BIN="$TRUNDLE_BIN" "$py" -m pytest -q -p no:cacheprovider crates/trundle-py/tests
+echo "Python package step: $(( $(date +%s) - started )) s"
