@@ -71,7 +71,7 @@ fn the_c_example_renders_what_the_cli_renders() {
         "-p",
         "trundle-cli",
     ]));
-    let examples = root.join("crates/trundle-ffi/examples/c");
+    let examples = root.join("examples/c");
     let mut make = Command::new("make");
     make.arg("-C")
         .arg(&examples)

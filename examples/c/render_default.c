@@ -7,7 +7,7 @@
  * writes. Usage: render_default OUT.wav SECONDS SEED
  *
  * Build: `cargo build --release -p trundle-ffi` at the workspace root, then
- * `make -C crates/trundle-ffi/examples/c`.
+ * `make -C examples/c`.
  */
 #include <math.h>
 #include <stdint.h>

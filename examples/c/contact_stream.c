@@ -7,7 +7,7 @@
  * the voice log: one voice, struck at each landing, rolling, ended at rest.
  *
  * Usage: contact_stream OUT.wav
- * Build: `cargo build --release -p trundle-ffi`, then `make -C crates/trundle-ffi/examples/c`.
+ * Build: `cargo build --release -p trundle-ffi`, then `make -C examples/c`.
  */
 #include <math.h>
 #include <stdint.h>
