@@ -13,11 +13,15 @@ use trundle_test_support::{cli, scratch::scratch, wav::read_wav};
 const BLOCK: usize = 997;
 const SECONDS: &str = "1.5";
 
-/// The runtime's render of `preset` with `seed`, limiter off, interleaved.
-fn runtime_render(preset: &str, seed: u64, frames: usize) -> Vec<f32> {
+/// The runtime's render of `preset` with `seed`, limiter off, then `sets` (key, text),
+/// interleaved.
+fn runtime_render(preset: &str, seed: u64, sets: &[(&str, &str)], frames: usize) -> Vec<f32> {
     let preset = load_preset(preset).unwrap();
     let mut r = PresetRenderer::new(&preset, 48_000.0, seed).unwrap();
     r.set_param(ParamId::Limiter, 0.0).unwrap();
+    for (key, text) in sets {
+        r.set_param_text(key, text).unwrap();
+    }
     let (mut l, mut rr) = (vec![0f32; BLOCK], vec![0f32; BLOCK]);
     let mut out = Vec::with_capacity(2 * frames);
     let mut done = 0;
@@ -63,21 +67,52 @@ fn runtime_equals_the_cli_bit_for_bit() {
             );
             let (spec, cli_samples) = read_wav(&dir.path().join(&file));
             assert_eq!((spec.channels, spec.sample_rate), (2, 48_000));
-            let ours = runtime_render(preset, seed, cli_samples.len() / 2);
-            assert_eq!(ours.len(), cli_samples.len());
-            let differing = ours
-                .iter()
-                .zip(&cli_samples)
-                .filter(|(a, b)| f64::from(**a).to_bits() != b.to_bits())
-                .count();
-            assert_eq!(
-                differing, 0,
-                "{preset} seed {seed}: {differing} samples differ"
-            );
-            assert!(
-                ours.iter().any(|x| x.abs() > 1e-4),
-                "{preset}: silent render"
-            );
+            let ours = runtime_render(preset, seed, &[], cli_samples.len() / 2);
+            assert_bit_equal(&ours, &cli_samples, &format!("{preset} seed {seed}"));
         }
     }
+    // A parameter set before the first frame starts the voice there, as --set does (size
+    // and roughness: sound-changing sets on a scene with lanes and extra balls).
+    let sets = [("size", "0.8"), ("roughness", "0.2")];
+    cli::ok(
+        dir.path(),
+        &[
+            "render",
+            "--preset",
+            "marbles-spilled",
+            "--seconds",
+            SECONDS,
+            "--seed",
+            "9",
+            "--no-normalize",
+            "--set",
+            "limiter=off",
+            "--set",
+            "size=0.8",
+            "--set",
+            "roughness=0.2",
+            "--format",
+            "f32",
+            "-o",
+            "set.wav",
+        ],
+    );
+    let (_, cli_samples) = read_wav(&dir.path().join("set.wav"));
+    let ours = runtime_render("marbles-spilled", 9, &sets, cli_samples.len() / 2);
+    assert_bit_equal(
+        &ours,
+        &cli_samples,
+        "marbles-spilled with size, roughness set",
+    );
+}
+
+fn assert_bit_equal(ours: &[f32], cli_samples: &[f64], what: &str) {
+    assert_eq!(ours.len(), cli_samples.len(), "{what}");
+    let differing = ours
+        .iter()
+        .zip(cli_samples)
+        .filter(|(a, b)| f64::from(**a).to_bits() != b.to_bits())
+        .count();
+    assert_eq!(differing, 0, "{what}: {differing} samples differ");
+    assert!(ours.iter().any(|x| x.abs() > 1e-4), "{what}: silent render");
 }
