@@ -2,8 +2,8 @@
 # The Python package's CI step: a fresh venv under target/, the package installed with pip
 # as a user would (`pip install ./crates/trundle-py`, maturin as the build backend, a
 # release build), the `trundle` command to compare with, and the pytest tests. Run from
-# anywhere; .ci/run calls it after `cargo test --workspace`. Needs python3 with venv, and
-# PyPI reachable.
+# anywhere; .ci/run calls it after `cargo test --workspace` with TRUNDLE_BIN set. Needs
+# python3 with venv, and PyPI reachable.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 started=$(date +%s)
@@ -18,11 +18,12 @@ py=target/py-venv/bin/python
 "$py" -m pip install --disable-pip-version-check -q ./crates/trundle-py
 echo "Python package installed: $(( $(date +%s) - started )) s"
 
-# The command to compare with: $TRUNDLE_BIN, else the test build of trundle-cli (the one
-# `cargo test --workspace` makes, so after that step this builds nothing).
+# The command to compare with: $TRUNDLE_BIN (.ci/run passes the one `cargo test --workspace`
+# built, target/debug/trundle, so nothing is built twice), else a release build of it.
 if [ -z "${TRUNDLE_BIN:-}" ]; then
-  cargo test --locked -q -p trundle-cli --no-run
-  TRUNDLE_BIN="$PWD/target/debug/trundle"
+  cargo build --release --locked -p trundle-cli
+  TRUNDLE_BIN="$PWD/target/release/trundle"
 fi
+[ -x "$TRUNDLE_BIN" ] || { echo "FAILED: TRUNDLE_BIN=$TRUNDLE_BIN is not an executable trundle command"; exit 1; }
 TRUNDLE_BIN="$TRUNDLE_BIN" "$py" -m pytest -q -p no:cacheprovider crates/trundle-py/tests
 echo "Python package step: $(( $(date +%s) - started )) s"
