@@ -14,8 +14,10 @@
 //! | [`renderer`] | `Renderer` (a preset streamed block by block) and `render` |
 //! | [`contact`] | `Contact`, `Material`, `Listener`: the contact stream's records |
 //! | [`stream`] | `ContactStream`: contacts per physics frame in, numpy audio and a voice log out |
+//! | [`compare`] | `compare`: the four measures of `trundle compare` on numpy arrays |
 //! | [`tables`] | `presets()` and `parameters()`: the built-in presets and the parameter table |
 
+pub mod compare;
 pub mod contact;
 pub mod params_arg;
 pub mod preset_arg;
@@ -42,6 +44,7 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<contact::Contact>()?;
     m.add_class::<contact::Material>()?;
     m.add_class::<contact::Listener>()?;
+    m.add_function(wrap_pyfunction!(compare::compare, m)?)?;
     m.add_function(wrap_pyfunction!(tables::presets, m)?)?;
     m.add_function(wrap_pyfunction!(tables::parameters, m)?)?;
     Ok(())

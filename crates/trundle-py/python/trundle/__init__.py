@@ -12,12 +12,19 @@ each touching pair (``Contact``: speeds, spin, radius, point, normal, impulse, m
 goes in, and one continuous, positioned sound per pair comes out (impacts when bodies
 strike, a roll while they roll, a rub while they slide), with a log of its voices.
 
+``compare`` judges a sound against a recording by the four measures of ``trundle compare``
+(long-term spectrum, modulation spectrum, texture statistics, impulsiveness), each with its
+limit and verdict.
+
 >>> import trundle
 >>> x = trundle.render("marble-on-glass", seconds=1.0, seed=7, params={"size": 0.3})
 >>> x.shape, x.dtype
 ((48000, 2), dtype('float32'))
 """
 
+import numpy as _np
+
+from trundle import _native
 from trundle._native import (
     Contact,
     ContactStream,
@@ -30,7 +37,27 @@ from trundle._native import (
     render,
 )
 
+
+
+def compare(recording, candidate, recording_rate, candidate_rate=None):
+    """Judge ``candidate`` against ``recording`` as ``trundle compare`` does.
+
+    Both are arrays of samples, mono or shaped ``(frames, channels)`` (mixed to mono), of any
+    float dtype; rates in Hz (``candidate_rate`` defaults to ``recording_rate``). Returns a
+    dict: ``passed``, ``measures_passed``, ``loss`` and, for ``spectrum``, ``modulation``,
+    ``texture``, ``kurtosis_ratio`` and ``crest_db``, a dict of ``value``, ``limit`` and
+    ``passed``. Raises ``ValueError`` for a sound under 0.5 s, silent or non-finite.
+    """
+    return _native.compare(
+        _np.asarray(recording, dtype=_np.float64),
+        _np.asarray(candidate, dtype=_np.float64),
+        float(recording_rate),
+        None if candidate_rate is None else float(candidate_rate),
+    )
+
+
 __all__ = [
+    "compare",
     "Contact",
     "ContactStream",
     "Listener",

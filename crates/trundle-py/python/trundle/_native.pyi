@@ -148,3 +148,10 @@ class ContactStream:
     def sample_rate(self) -> float: ...
     @property
     def frame_rate(self) -> float: ...
+
+def compare(
+    recording: npt.NDArray[np.float64],
+    candidate: npt.NDArray[np.float64],
+    recording_rate: float,
+    candidate_rate: Optional[float] = None,
+) -> Dict[str, Any]: ...
