@@ -36,6 +36,13 @@ fn bench_json_has_every_timing() {
     // than real time even in a quick, disturbed run: at least its 16 voices per core.
     get("contacts16_ns_per_sample");
     assert!(get("contact_voices_per_core") >= 16.0);
+    // Complex input gains cost one multiply–add more per mode·sample (of four): more than
+    // nothing and well under twice (loose: a shared machine).
+    let phased = get("modal_phased_ns_per_mode_sample");
+    assert!(phased < 2.5 * modal, "phased bank {phased} vs real {modal}");
+    get("fitted_sine_ns_per_sample");
+    get("fitted_phase_ns_per_sample");
+    get("fitted_phase_ns_per_mode_sample");
     get("voice_realtime_factor");
     get("voices_per_core");
     assert!(v["kernel"].is_string());
