@@ -241,6 +241,8 @@ fn contacts_ns(budget: Duration) -> Result<f64, CliError> {
         Some(e) => Err(failure(format!("bench contact stream: {e}"))),
         None => Ok(ns),
     }
+}
+
 /// Modes of the fitted object the bench plays.
 pub const FITTED_MODES: usize = 64;
 
