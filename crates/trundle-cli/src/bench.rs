@@ -15,6 +15,8 @@
 //! | `balls_1000_ns_per_sample`, `balls_1000_realtime_factor` | one voice with `crowd = 1000` ([`trundle_dsp::scene::crowd`]: 8 detailed balls, 991 merged) on its 32-mode object, and its real-time factor on one core (target ≥ 2) |
 //! | `source_ns_per_sample` | the signal source alone ([`trundle_dsp::source::chain::Source`]: series, pulses, AM, velocity low-pass) at the default controls, in chunks of [`CHUNK`]: no position stage, DC blocker or bank |
 //! | `idle_ns_per_sample` | a voice whose ball is at rest and whose object has rung out |
+//! | `modal_phased_ns_per_mode_sample` | the 128-mode bank with complex input gains (every mode h ≠ 0: the phased kernel) |
+//! | `fitted_sine_ns_per_sample`, `fitted_phase_ns_per_sample` | the default voice playing a fitted object of [`FITTED_MODES`] modes in sine phase (object file version 1) and from its phases (version 2), measured in turns; `…_ns_per_mode_sample` divides by the modes the bank processes |
 //!
 //! plus the bank and the voice at 8/32/128 modes, the real-time factor (seconds of audio
 //! per second of computing) and the voices one core sustains. Everything printed is measured
@@ -27,8 +29,11 @@ use std::time::{Duration, Instant};
 
 use clap::Args;
 use serde_json::json;
+use std::sync::Arc;
 use trundle_dsp::block::CHUNK;
+use trundle_dsp::fit::{FitMode, FittedObject};
 use trundle_dsp::object::bank::{phasor_coeffs, ModalBank, ModeCoeffs};
+use trundle_dsp::object::fitted::{LoadedObject, ObjectFile};
 use trundle_dsp::object::kernels::Kernel;
 use trundle_dsp::source::chain::{Source, SourceControls};
 use trundle_dsp::{ParamId, Params, Voice};
@@ -137,17 +142,20 @@ fn source_ns(budget: Duration) -> f64 {
     })
 }
 
-/// ns per mode·sample of the bank alone with `modes` modes (object-like settings).
-fn modal_ns(budget: Duration, modes: usize) -> f64 {
+/// ns per mode·sample of the bank alone with `modes` modes (object-like settings); with
+/// `phased`, every mode has an imaginary input gain too (the phased kernel).
+fn modal_ns(budget: Duration, modes: usize, phased: bool) -> f64 {
     let mut bank = ModalBank::new(modes);
     for k in 0..modes {
         let (c, s) = phasor_coeffs(100.0 * (1.0 + 0.61 * k as f64), 0.5, FS);
+        let h = if phased { 0.7e-3 } else { 0.0 };
         bank.set_mode(
             k,
             ModeCoeffs {
                 c,
                 s,
                 g: 1e-3,
+                h,
                 d: 0.0,
             },
         );
@@ -171,6 +179,63 @@ fn modal_ns(budget: Duration, modes: usize) -> f64 {
     ns / modes as f64
 }
 
+/// Modes of the fitted object the bench plays.
+pub const FITTED_MODES: usize = 64;
+
+/// A fitted object of [`FITTED_MODES`] modes (120 Hz … 9 kHz, 40 ms … 1.2 s, phases spread
+/// over the circle), played from its phases or in sine phase.
+fn fitted_object(play_phase: bool) -> Result<Arc<LoadedObject>, CliError> {
+    let modes = (0..FITTED_MODES)
+        .map(|k| FitMode {
+            freq_hz: 120.0 * 1.07f64.powi(k as i32),
+            decay_s: 1.2 / (1.0 + 0.5 * k as f64),
+            amplitude: 0.2 / (1.0 + 0.1 * k as f64),
+            phase_rad: 2.4 * k as f64 - 3.0,
+            decay_sd_s: 0.0,
+        })
+        .collect();
+    let object = FittedObject {
+        sample_rate_hz: FS,
+        modes,
+        envelope: vec![],
+        modal_range_hz: (50.0, 0.45 * FS),
+        onset_s: 0.0,
+        duration_s: 2.0,
+        residual_db: -40.0,
+        peak: 0.5,
+        spectrum: vec![],
+        play_phase,
+    };
+    let file = ObjectFile {
+        object,
+        source: "bench".into(),
+    };
+    LoadedObject::shared(file).map_err(|e| failure(format!("bench object: {e}")))
+}
+
+/// ns per sample of the default voice playing the fitted object (sine phase, then with
+/// phase, measured in turns), and the modes its bank processes in each.
+fn fitted_ns(budget: Duration) -> Result<[(f64, usize); 2], CliError> {
+    let mut voices = Vec::new();
+    for play_phase in [false, true] {
+        let mut v = Voice::new(FS, &params(32, "signal", 1)?);
+        v.set_loaded_object(Some(fitted_object(play_phase)?));
+        let mut buf = vec![0f32; BLOCK];
+        for _ in 0..100 {
+            v.process(&mut buf);
+        }
+        voices.push([v]);
+    }
+    let mut best = [f64::INFINITY; 2];
+    for _ in 0..3 {
+        for (b, v) in best.iter_mut().zip(voices.iter_mut()) {
+            *b = b.min(voices_ns(budget, v));
+        }
+    }
+    let modes = |v: &[Voice; 1]| v[0].object().active_modes() + v[0].object().long_modes();
+    Ok([(best[0], modes(&voices[0])), (best[1], modes(&voices[1]))])
+}
+
 /// Every measurement.
 struct Report {
     kernel: Kernel,
@@ -186,14 +251,21 @@ struct Report {
     no_high_band: f64,
     /// The 32-mode voice with its high band, measured beside `no_high_band`.
     with_high_band: f64,
+    /// The 128-mode bank with complex gains (ns per mode·sample).
+    modal_phased: f64,
+    /// The voice playing a fitted object in sine phase and with phase: ns per sample and
+    /// the modes its bank processes.
+    fitted: [(f64, usize); 2],
 }
 
 fn measure(quick: bool) -> Result<Report, CliError> {
     let budget = Duration::from_millis(if quick { 20 } else { 300 });
     let modal = [8, 32, 128]
         .into_iter()
-        .map(|m| (m, modal_ns(budget, m)))
+        .map(|m| (m, modal_ns(budget, m, false)))
         .collect();
+    let modal_phased = modal_ns(budget, 128, true);
+    let fitted = fitted_ns(budget)?;
     let mut voice = Vec::new();
     for m in [8, 32, 128] {
         let mut v = [warm_voice(&params(m, "signal", 1)?)];
@@ -252,6 +324,8 @@ fn measure(quick: bool) -> Result<Report, CliError> {
         idle,
         no_high_band: without_hb,
         with_high_band: with_hb,
+        modal_phased,
+        fitted,
     })
 }
 
@@ -284,6 +358,12 @@ fn table(r: &Report) -> String {
             ns * m as f64
         );
     }
+    s += &format!(
+        "  128 modes, phased   {:>9.1}   {:>14.3}   (complex input gains: ×{:.2})\n",
+        r.modal_phased * 128.0,
+        r.modal_phased,
+        r.modal_phased / at(&r.modal, 128)
+    );
     s += "\nvoice (signal)        ns/sample   real-time ×   voices/core\n";
     for &(m, ns) in &r.voice {
         s += &format!(
@@ -304,6 +384,13 @@ fn table(r: &Report) -> String {
         r.with_high_band,
         r.no_high_band
     );
+    for (name, (ns, m)) in ["sine phase", "with phase"].iter().zip(r.fitted) {
+        s += &format!(
+            "  fitted, {name}  {ns:>9.1}   {:>11.0}   ({FITTED_MODES} fitted modes, {m} processed: {:.3} ns/mode·sample)\n",
+            realtime(ns),
+            ns / m as f64
+        );
+    }
     s += &format!(
         "\nphysics, 32 modes     {:>9.1} ns/sample   real-time ×{:.0}\n",
         r.physics,
@@ -371,6 +458,12 @@ fn to_json(r: &Report) -> String {
         "voice_no_high_band_ns_per_sample": r.no_high_band,
         "voice_with_high_band_ns_per_sample": r.with_high_band,
         "high_band_cost_ratio": r.with_high_band / r.no_high_band,
+        "modal_phased_ns_per_mode_sample": r.modal_phased,
+        "fitted_sine_ns_per_sample": r.fitted[0].0,
+        "fitted_phase_ns_per_sample": r.fitted[1].0,
+        "fitted_sine_ns_per_mode_sample": r.fitted[0].0 / r.fitted[0].1 as f64,
+        "fitted_phase_ns_per_mode_sample": r.fitted[1].0 / r.fitted[1].1 as f64,
+        "fitted_modes_processed": r.fitted[1].1,
         "targets": {
             "high_band_cost_ratio": TARGET_HIGH_BAND,
             "modal_ns_per_mode_sample": TARGET_MODAL,

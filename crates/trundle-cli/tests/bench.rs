@@ -32,6 +32,13 @@ fn bench_json_has_every_timing() {
     assert!(crowd > voice * 0.5, "crowd {crowd} ns vs voice {voice} ns");
     assert!(get("balls_1000_realtime_factor") > 1.0);
     get("idle_ns_per_sample");
+    // Complex input gains cost one multiply–add more per mode·sample (of four): more than
+    // nothing and well under twice (loose: a shared machine).
+    let phased = get("modal_phased_ns_per_mode_sample");
+    assert!(phased < 2.5 * modal, "phased bank {phased} vs real {modal}");
+    get("fitted_sine_ns_per_sample");
+    get("fitted_phase_ns_per_sample");
+    get("fitted_phase_ns_per_mode_sample");
     get("voice_realtime_factor");
     get("voices_per_core");
     assert!(v["kernel"].is_string());

@@ -228,6 +228,8 @@ fn a_roll_on_a_known_object_is_fitted_through_its_inverse() {
         residual_db: -100.0,
         peak: 1.0,
         spectrum: vec![],
+        // The recipe's modes as the bank plays them, sine phase: a version-1 object.
+        play_phase: false,
     };
     let object_path = d.join("default.object.json");
     fs::write(
@@ -361,7 +363,8 @@ fn roll_sounds_are_fitted_back_through_the_inverse_of_a_fitted_object() {
         // The preset holds the object it was inverse-filtered by, and plays it.
         let preset: Value =
             serde_json::from_str(&fs::read_to_string(&fit.preset).unwrap()).unwrap();
-        assert_eq!(preset["object"]["trundle_object"], 1, "{preset}");
+        // A fit-object file plays its phases: version 2.
+        assert_eq!(preset["object"]["trundle_object"], 2, "{preset}");
         assert_eq!(preset["params"]["ball_material"], "hardwood", "{preset}");
         let o = run(&[
             "render",

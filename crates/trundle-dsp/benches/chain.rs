@@ -100,6 +100,7 @@ fn bench_bank(modes: usize, kernel: Kernel) -> ModalBank {
                 c,
                 s,
                 g: 1e-3,
+                h: 0.0,
                 d: 0.0,
             },
         );

@@ -53,13 +53,14 @@ mod tests {
             residual_db: -23.0,
             peak: 0.7,
             spectrum: vec![],
+            play_phase: true,
         };
         let v = to_json(&fit, "knock.wav");
         let text = serde_json::to_string(&v).unwrap();
         let back: Value = serde_json::from_str(&text).unwrap();
         assert_eq!(from_json(&back).unwrap(), (fit, "knock.wav".to_string()));
         let mut newer = back.clone();
-        newer["trundle_object"] = json!(2);
+        newer["trundle_object"] = json!(3);
         assert!(from_json(&newer).unwrap_err().contains("newer"));
         let mut bad = back;
         bad["modes"][0]["decay_s"] = json!(-1.0);

@@ -329,6 +329,7 @@ pub fn fit_strike(x: &[f64], sample_rate_hz: f64) -> Result<FittedObject, FitErr
         residual_db,
         peak,
         spectrum,
+        play_phase: true,
     })
 }
 

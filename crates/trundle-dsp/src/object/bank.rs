@@ -5,15 +5,32 @@
 //! ("phasor") filter
 //!
 //! ```text
-//! zₖ[n] = gₖ·x[n] + pₖ·zₖ[n−1],   pₖ = rₖ·e^{iωₖ},   rₖ = exp(−1/(τₖ·f_s)),   y[n] = Σₖ Im zₖ[n]
+//! zₖ[n] = (gₖ + i·hₖ)·x[n] + pₖ·zₖ[n−1],   pₖ = rₖ·e^{iωₖ},   rₖ = exp(−1/(τₖ·f_s)),
+//! y[n] = Σₖ Im zₖ[n]
 //! ```
 //!
-//! so the impulse response of mode k is gₖ·rₖⁿ·sin(nωₖ): a decaying sine that starts at zero.
+//! so the impulse response of mode k (x[0] = 1) is Im((gₖ + i·hₖ)·pₖⁿ) =
+//! rₖⁿ·(gₖ·sin nωₖ + hₖ·cos nωₖ) = aₖ·rₖⁿ·cos(nωₖ + φₖ) with gₖ = −aₖ·sin φₖ and
+//! hₖ = aₖ·cos φₖ: any starting phase, exactly, from sample 0 (the impulse's own sample).
+//! With the imaginary gain hₖ = 0 (every built-in object) it is gₖ·rₖⁿ·sin(nωₖ): a decaying
+//! sine that starts at zero.
+//!
 //! Because the state is a rotating phasor, changing ωₖ changes only the rotation rate — the
 //! amplitude never jumps — and the recursion stays well conditioned at high Q and low
-//! frequency, where direct-form biquads lose their precision. Since gₖ is real, a step in
-//! the input gain (a mode switched on or off) reaches the output only through the rotation,
-//! one sample later and scaled by rₖ·sin ωₖ: switching a mode's input never clicks.
+//! frequency, where direct-form biquads lose their precision. While gₖ is real (hₖ = 0), a
+//! step in the input gain (a mode switched on or off) reaches the output only through the
+//! rotation, one sample later and scaled by rₖ·sin ωₖ: switching a mode's input never
+//! clicks. An imaginary gain hₖ reaches the output at once: a step Δh in it adds Δh·x[n] to
+//! the output at that sample, a step of the force's size. Fitted objects, the only ones
+//! with hₖ ≠ 0, set their gains when the object is loaded or a control (quality, the
+//! material's tilt) moves — never with the ball — so this happens only where the sound
+//! changes anyway; a mode culled or dropped there is given zero g and h together.
+//!
+//! ## Cost of the imaginary gain
+//! The input enters Im z too: one more multiply–add per mode·sample. The bank counts the
+//! modes with hₖ ≠ 0 and runs the complex kernel variant ([`crate::object::kernels`]) only
+//! while that count is non-zero, so a bank of real gains computes exactly what it always
+//! computed, at the same cost.
 //!
 //! ## Precision and stability
 //! Coefficients are computed in f64 and rounded to f32 so that the rounded pole never lies
@@ -31,7 +48,7 @@
 //! stereo kernel costs one multiply–add per mode·sample more than the mono one.
 //!
 //! ## Layout and kernels
-//! Struct of arrays (`re`, `im`, `c`, `s`, `g`, `d`), lanes padded to a multiple of [`LANES`]
+//! Struct of arrays (`re`, `im`, `c`, `s`, `g`, `h`, `d`), lanes padded to a multiple of [`LANES`]
 //! with zero coefficients. Two ranges of modes are processed: a prefix `0..active` and a
 //! tail `tail_start..tail_start + tail_len` (the object's explicit modes and its high band). [`ModalBank::process`] works in blocks of at most [`BLOCK`] samples:
 //! modes in the outer loop, [`LANES`] at a time (several groups interleaved so the
@@ -50,8 +67,10 @@ pub struct ModeCoeffs {
     pub c: f32,
     /// Im p = r·sin ω.
     pub s: f32,
-    /// Input gain g.
+    /// Input gain g (real part: the input enters Re z).
     pub g: f32,
+    /// Imaginary input gain h (the input enters Im z; 0 for a sine-phase mode).
+    pub h: f32,
     /// Weight of the mode in the side output of [`ModalBank::process_stereo`].
     pub d: f32,
 }
@@ -99,7 +118,10 @@ pub struct ModalBank {
     c: Vec<f32>,
     s: Vec<f32>,
     g: Vec<f32>,
+    h: Vec<f32>,
     d: Vec<f32>,
+    /// Modes with h ≠ 0 (the complex kernel runs while this is not zero).
+    phased: usize,
     active: usize,
     tail_start: usize,
     tail_len: usize,
@@ -124,7 +146,9 @@ impl ModalBank {
             c: vec![0.0; cap],
             s: vec![0.0; cap],
             g: vec![0.0; cap],
+            h: vec![0.0; cap],
             d: vec![0.0; cap],
+            phased: 0,
             active: 0,
             tail_start: 0,
             tail_len: 0,
@@ -171,18 +195,41 @@ impl ModalBank {
             self.c[k] = m.c;
             self.s[k] = m.s;
             self.g[k] = m.g;
+            self.set_h(k, m.h);
             self.d[k] = m.d;
         }
     }
 
-    /// Set mode `k`'s input gain and side weight, keeping its pole (ignored beyond the
-    /// capacity).
+    #[inline]
+    fn set_h(&mut self, k: usize, h: f32) {
+        let (was, is) = (self.h[k] != 0.0, h != 0.0);
+        self.phased = self.phased + usize::from(is) - usize::from(was);
+        self.h[k] = h;
+    }
+
+    /// Set mode `k`'s real input gain and side weight, keeping its pole; the imaginary
+    /// gain becomes 0 (sine phase). Ignored beyond the capacity.
     #[inline]
     pub fn set_gains(&mut self, k: usize, g: f32, d: f32) {
+        self.set_complex_gains(k, g, 0.0, d);
+    }
+
+    /// Set mode `k`'s complex input gain g + i·h and side weight, keeping its pole
+    /// (ignored beyond the capacity). The impulse response is then
+    /// rⁿ·(g·sin nω + h·cos nω) (module docs).
+    #[inline]
+    pub fn set_complex_gains(&mut self, k: usize, g: f32, h: f32, d: f32) {
         if k < self.c.len() {
             self.g[k] = g;
+            self.set_h(k, h);
             self.d[k] = d;
         }
+    }
+
+    /// Number of modes with an imaginary input gain h ≠ 0: while it is not zero the bank
+    /// runs the complex kernel variant (one more multiply–add per mode·sample).
+    pub fn phased_modes(&self) -> usize {
+        self.phased
     }
 
     /// Mode `k`'s coefficients.
@@ -191,6 +238,7 @@ impl ModalBank {
             c: self.c[k],
             s: self.s[k],
             g: self.g[k],
+            h: self.h[k],
             d: self.d[k],
         }
     }
@@ -285,7 +333,11 @@ impl ModalBank {
     /// must have the same length (the shorter one sets how many samples are processed).
     /// Real-time safe: the accumulator lives on the stack.
     pub fn process(&mut self, input: &[f32], out: &mut [f32]) {
-        self.run::<false>(input, out, &mut []);
+        if self.phased > 0 {
+            self.run::<false, true>(input, out, &mut []);
+        } else {
+            self.run::<false, false>(input, out, &mut []);
+        }
     }
 
     /// Run the bank on `input`, writing Σ Im zₖ to `mid` and Σ dₖ·Im zₖ to `side` (both
@@ -293,10 +345,20 @@ impl ModalBank {
     /// bit for bit what [`process`](Self::process) writes. Real-time safe.
     pub fn process_stereo(&mut self, input: &[f32], mid: &mut [f32], side: &mut [f32]) {
         let n = input.len().min(mid.len()).min(side.len());
-        self.run::<true>(&input[..n], &mut mid[..n], &mut side[..n]);
+        let (x, mid, side) = (&input[..n], &mut mid[..n], &mut side[..n]);
+        if self.phased > 0 {
+            self.run::<true, true>(x, mid, side);
+        } else {
+            self.run::<true, false>(x, mid, side);
+        }
     }
 
-    fn run<const ST: bool>(&mut self, input: &[f32], out: &mut [f32], side: &mut [f32]) {
+    fn run<const ST: bool, const PH: bool>(
+        &mut self,
+        input: &[f32],
+        out: &mut [f32],
+        side: &mut [f32],
+    ) {
         debug_assert_eq!(input.len(), out.len());
         let n = input.len().min(out.len());
         let ranges = self.ranges();
@@ -330,9 +392,10 @@ impl ModalBank {
                     c: &self.c[a..b],
                     s: &self.s[a..b],
                     g: &self.g[a..b],
+                    h: &self.h[a..b],
                     d: &self.d[a..b],
                 };
-                self.kernel.run::<ST>(&mut m, x, acc, acc_side);
+                self.kernel.run::<ST, PH>(&mut m, x, acc, acc_side);
             }
             lane_sums(self.kernel, &acc.0[..x.len()], &mut out[done..end]);
             if ST {
@@ -344,295 +407,4 @@ impl ModalBank {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn rounded_pole_never_lies_outside_the_exact_one() {
-        for &fs in &[8_000.0, 48_000.0, 384_000.0] {
-            for &f in &[20.0, 1_000.0, 0.499 * fs] {
-                for &tau in &[0.2e-3, 0.1, 60.0] {
-                    let (c, s) = phasor_coeffs(f, tau, fs);
-                    let r = (-1.0 / (tau * fs)).exp();
-                    let m2 = (c as f64).powi(2) + (s as f64).powi(2);
-                    assert!(m2 <= r * r && m2 < 1.0, "{fs} {f} {tau}");
-                }
-            }
-        }
-    }
-
-    #[test]
-    fn impulse_response_is_a_decaying_sine() {
-        let fs = 48_000.0;
-        let (f, tau, g) = (1_000.0, 0.05, 0.5);
-        for kernel in Kernel::ALL.into_iter().filter(|k| k.is_available()) {
-            let mut b = ModalBank::new(1);
-            assert!(b.set_kernel(kernel));
-            let (c, s) = phasor_coeffs(f, tau, fs);
-            b.set_mode(0, ModeCoeffs { c, s, g, d: 0.0 });
-            b.set_active(1);
-            let mut x = vec![0.0f32; 4_800];
-            x[0] = 1.0;
-            let mut y = vec![0.0f32; 4_800];
-            b.process(&x, &mut y);
-            for (n, &v) in y.iter().enumerate() {
-                let t = n as f64 / fs;
-                let want = g as f64 * (-t / tau).exp() * (core::f64::consts::TAU * f * t).sin();
-                assert!(
-                    (v as f64 - want).abs() < 1e-5,
-                    "{kernel:?} {n}: {v} vs {want}"
-                );
-            }
-        }
-    }
-
-    #[test]
-    fn flush_leaves_no_subnormal_state() {
-        let mut b = ModalBank::new(8);
-        let (c, s) = phasor_coeffs(440.0, 0.001, 48_000.0);
-        b.set_mode(
-            3,
-            ModeCoeffs {
-                c,
-                s,
-                g: 1.0,
-                d: 0.0,
-            },
-        );
-        b.set_active(8);
-        let mut x = vec![0.0f32; 64];
-        x[0] = 1.0;
-        let mut y = vec![0.0f32; 64];
-        for _ in 0..1_000 {
-            b.process(&x, &mut y);
-            b.flush();
-            x[0] = 0.0;
-        }
-        for k in 0..8 {
-            assert!(b.energy(k) == 0.0 || b.energy(k).is_normal());
-        }
-        assert_eq!(b.energy(3), 0.0);
-        assert!(b.is_silent());
-    }
-
-    /// A bank of `n` modes spread from 20 Hz to near Nyquist at 48 kHz, every eighth one
-    /// high-Q (τ = 60 s, the longest the object allows), the rest 5 ms … 2 s.
-    fn test_bank(n: usize, kernel: Kernel) -> ModalBank {
-        let fs = 48_000.0;
-        let mut b = ModalBank::new(n);
-        assert!(b.set_kernel(kernel));
-        for k in 0..n {
-            let f = 20.0 * (23_000.0f64 / 20.0).powf(k as f64 / (n - 1).max(1) as f64);
-            let tau = if k % 8 == 3 {
-                60.0
-            } else {
-                0.005 * 400f64.powf(((k * 37) % 17) as f64 / 16.0)
-            };
-            let (c, s) = phasor_coeffs(f, tau, fs);
-            // Side weights in [−1, 1], different per lane.
-            let d = ((k * 7) % 9) as f32 / 4.0 - 1.0;
-            b.set_mode(k, ModeCoeffs { c, s, g: 1e-3, d });
-        }
-        b.set_active(n);
-        b
-    }
-
-    /// A reproducible noise burst, then silence (linear congruential generator).
-    fn test_input(len: usize) -> Vec<f32> {
-        let mut state = 7u32;
-        (0..len)
-            .map(|i| {
-                state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
-                let v = (state >> 8) as f32 / (1u32 << 24) as f32 - 0.5;
-                if i < len / 4 {
-                    v
-                } else {
-                    0.0
-                }
-            })
-            .collect()
-    }
-
-    fn render(b: &mut ModalBank, x: &[f32], chunk: usize) -> Vec<f32> {
-        let mut y = vec![0.0f32; x.len()];
-        for (xc, yc) in x.chunks(chunk).zip(y.chunks_mut(chunk)) {
-            b.process(xc, yc);
-            b.flush();
-        }
-        y
-    }
-
-    /// Every kernel this CPU runs against the scalar reference: 40 modes (groups 4 + 1 for
-    /// AVX2, 2 + 2 + 1 for SSE2) and 128 modes, 10 s at 48 kHz, including τ = 60 s modes
-    /// that keep ringing through the whole run.
-    ///
-    /// SSE2 performs the scalar kernel's operations in its order: bit-identical. FMA rounds
-    /// each update twice instead of four times; the difference is rounding noise (≈ 2⁻²⁴ of
-    /// the state per step) filtered by each mode, so for a mode of τ·f_s samples it grows at
-    /// most like 2⁻²⁴·√(τ·f_s/2) ≈ 6·10⁻⁵ of its amplitude for τ = 60 s. The bound 10⁻³ of
-    /// the peak output leaves a margin of ten; a wrong lane, sign or coefficient is off by
-    /// order 1.
-    #[test]
-    fn every_kernel_matches_the_scalar_reference_over_long_high_q_runs() {
-        let x = test_input(480_000);
-        for n in [40usize, 128] {
-            let y_ref = render(&mut test_bank(n, Kernel::Scalar), &x, CHUNK_FOR_TEST);
-            let peak = y_ref.iter().fold(0.0f32, |m, v| m.max(v.abs()));
-            assert!(peak > 1e-3, "reference is silent");
-            // The high-Q modes still sound at the end.
-            assert!(y_ref[x.len() - 4_800..]
-                .iter()
-                .any(|v| v.abs() > 1e-3 * peak));
-            for kernel in Kernel::ALL.into_iter().filter(|k| k.is_available()) {
-                let y = render(&mut test_bank(n, kernel), &x, CHUNK_FOR_TEST);
-                let err = y
-                    .iter()
-                    .zip(&y_ref)
-                    .fold(0.0f32, |m, (a, b)| m.max((a - b).abs()));
-                match kernel {
-                    Kernel::Scalar | Kernel::Sse2 => {
-                        assert_eq!(err, 0.0, "{kernel:?} {n} modes: not bit-identical")
-                    }
-                    Kernel::Avx2Fma => assert!(
-                        err <= 1e-3 * peak,
-                        "{kernel:?} {n} modes: error {err} vs peak {peak}"
-                    ),
-                }
-            }
-        }
-    }
-
-    const CHUNK_FOR_TEST: usize = crate::block::CHUNK;
-
-    fn render_stereo(b: &mut ModalBank, x: &[f32], chunk: usize) -> (Vec<f32>, Vec<f32>) {
-        let mut mid = vec![0.0f32; x.len()];
-        let mut side = vec![0.0f32; x.len()];
-        for ((xc, m), s) in x
-            .chunks(chunk)
-            .zip(mid.chunks_mut(chunk))
-            .zip(side.chunks_mut(chunk))
-        {
-            b.process_stereo(xc, m, s);
-            b.flush();
-        }
-        (mid, side)
-    }
-
-    /// The stereo kernel's mid is the mono kernel's output bit for bit, and its side is
-    /// Σ dₖ·Im zₖ: checked against per-mode renders (each mode alone, weighted by dₖ), for
-    /// every kernel, with a tail range as the object uses it.
-    #[test]
-    fn stereo_mid_is_the_mono_output_and_side_is_the_weighted_sum() {
-        let x = test_input(20_000);
-        for kernel in Kernel::ALL.into_iter().filter(|k| k.is_available()) {
-            let mono = render(&mut test_bank(40, kernel), &x, CHUNK_FOR_TEST);
-            let (mid, side) = render_stereo(&mut test_bank(40, kernel), &x, CHUNK_FOR_TEST);
-            assert_eq!(mid, mono, "{kernel:?}: mid differs from the mono output");
-            // The side from single-mode banks weighted by d, summed in f64.
-            let mut want = vec![0.0f64; x.len()];
-            let full = test_bank(40, kernel);
-            for k in 0..40 {
-                let mut one = ModalBank::new(1);
-                assert!(one.set_kernel(kernel));
-                let m = full.mode(k);
-                one.set_mode(0, ModeCoeffs { d: 0.0, ..m });
-                one.set_active(1);
-                let y = render(&mut one, &x, CHUNK_FOR_TEST);
-                for (w, v) in want.iter_mut().zip(&y) {
-                    *w += f64::from(m.d) * f64::from(*v);
-                }
-            }
-            let peak = want.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-            let err = side
-                .iter()
-                .zip(&want)
-                .fold(0.0f64, |a, (s, w)| a.max((f64::from(*s) - w).abs()));
-            // f32 accumulation of 40 terms: a few ulps of the peak.
-            assert!(
-                peak > 1e-4 && err < 1e-5 * peak,
-                "{kernel:?}: {err} vs {peak}"
-            );
-        }
-        // A tail range beyond the prefix is processed too, and only it.
-        let mut b = ModalBank::new(64);
-        let (c, s) = phasor_coeffs(1_000.0, 0.1, 48_000.0);
-        b.set_mode(
-            50,
-            ModeCoeffs {
-                c,
-                s,
-                g: 1.0,
-                d: 0.5,
-            },
-        );
-        b.set_active(0);
-        b.set_tail(50, 1);
-        assert_eq!(b.tail(), (48, 8));
-        let mut x = vec![0.0f32; 64];
-        x[0] = 1.0;
-        let (mut m, mut sd) = (vec![0.0f32; 64], vec![0.0f32; 64]);
-        b.process_stereo(&x, &mut m, &mut sd);
-        assert!(m[10] != 0.0 && (sd[10] - 0.5 * m[10]).abs() < 1e-7);
-        assert_eq!(b.mode_samples(), 8 * 64);
-    }
-
-    #[test]
-    fn output_does_not_depend_on_the_block_length() {
-        let x = test_input(9_000);
-        for kernel in Kernel::ALL.into_iter().filter(|k| k.is_available()) {
-            let whole = {
-                let mut b = test_bank(24, kernel);
-                let mut y = vec![0.0; x.len()];
-                b.process(&x, &mut y);
-                y
-            };
-            for chunk in [1usize, 37, 64, 130] {
-                let mut b = test_bank(24, kernel);
-                let mut y = vec![0.0; x.len()];
-                for (xc, yc) in x.chunks(chunk).zip(y.chunks_mut(chunk)) {
-                    b.process(xc, yc);
-                }
-                assert_eq!(y, whole, "{kernel:?} chunk {chunk}");
-            }
-        }
-    }
-
-    /// With no input, no kernel lets a high-Q mode's magnitude grow (|p_f32| ≤ r).
-    #[test]
-    fn no_kernel_lets_a_free_mode_grow() {
-        for kernel in Kernel::ALL.into_iter().filter(|k| k.is_available()) {
-            let mut b = test_bank(16, kernel);
-            let mut x = vec![0.0f32; 64];
-            x[0] = 1.0;
-            let mut y = vec![0.0f32; 64];
-            b.process(&x, &mut y);
-            x[0] = 0.0;
-            let e0: Vec<f32> = (0..16).map(|k| b.energy(k)).collect();
-            let mut prev = e0.clone();
-            for _ in 0..7_500 {
-                b.process(&x, &mut y);
-                b.flush();
-                for (k, p) in prev.iter_mut().enumerate() {
-                    let e = b.energy(k);
-                    // One rounding of the squared magnitude may go up by a few ulps.
-                    assert!(e <= *p * (1.0 + 1e-6), "{kernel:?} mode {k}: {e} > {p}");
-                    *p = e;
-                }
-            }
-            assert!(prev[3] > 0.5 * e0[3], "the 60 s mode decayed too fast");
-        }
-    }
-
-    #[test]
-    fn work_counter_counts_processed_mode_samples() {
-        let mut b = test_bank(20, Kernel::Scalar);
-        let x = [0.0f32; 100];
-        let mut y = [1.0f32; 100];
-        b.process(&x, &mut y);
-        assert_eq!(b.mode_samples(), 24 * 100);
-        b.set_active(0);
-        b.process(&x, &mut y);
-        assert_eq!(b.mode_samples(), 24 * 100);
-        assert!(y.iter().all(|&v| v == 0.0));
-    }
-}
+mod tests;

@@ -6,26 +6,45 @@
 //! it allocates — and [`crate::Voice::set_loaded_object`] swaps it in without allocating.
 //!
 //! ## How a fitted object is played (docs/MODEL.md §6, "Fitted objects")
-//! * **Modes.** Each fitted mode aₖ·e^{−t/τₖ}·cos(2πfₖt + φₖ) becomes an explicit mode of the
-//!   bank with its frequency and decay. The bank's modes have a real input gain (switching
-//!   one never clicks, [`crate::object::bank`]), so every mode's impulse response starts in sine
-//!   phase: the fitted phase φₖ is reduced to the sign of the gain, sₖ = sign(−sin φₖ)
-//!   (the sine component of the fitted cosine), and the amplitude aₖ is kept. Energy and
-//!   spectrum are kept; the waveform of the first milliseconds is not.
-//! * **The band part.** Each third-octave band is played by [`BAND_MODES`] modes spread
-//!   evenly (in log frequency) through the band, ringing at the residual envelope's decay
-//!   (or the band's own time 1/(π·bandwidth) where the envelope has none): a short-decay
-//!   mode is a band of noise once the force is noise, and an impulse gives the band's
-//!   decaying burst. Their energy is what the played modes (sine phase) miss of the
-//!   recording's own third-octave spectrum ([`FittedObject::spectrum`], compared over
-//!   [`SPECTRUM_SPAN_S`] by one measure, [`band_energies`]), measured once in
-//!   [`LoadedObject::new`]. Files without a spectrum fall back to the envelope (its level
-//!   relative to the recording's energy, estimated as E = Σaₖ²τₖ·(1 − e^{−2D/τₖ}) /
-//!   (1 − Σ10^{Lᵦ/10})) plus what the sine phase loses of the modes' own energy. Where the
-//!   played modes exceed the recording (a strong short mode's flat low-frequency skirt in
-//!   sine phase) nothing is taken away, except that short modes in a band where they
-//!   overshoot are scaled down. Slowly decaying bands make narrow, tonal band modes: the
-//!   third-octave energy is right, the fine spectrum between partials is not.
+//! * **Modes, with their phase** (object file version 2, [`FittedObject::play_phase`]).
+//!   Each fitted mode aₖ·e^{−t/τₖ}·cos(2πfₖt + φₖ) becomes an explicit mode of the bank
+//!   with its frequency, decay and the complex input gain gₖ + i·hₖ = aₖ·(−sin φₖ + i·cos φₖ)
+//!   ([`crate::object::bank`]): struck by a unit impulse at sample 0 — the onset, t = 0 of
+//!   the fit — its output at sample n is aₖ·rₖⁿ·cos(nωₖ + φₖ) with rₖ = e^{−1/(τₖ·f_s)}
+//!   and ωₖ = 2πfₖ/f_s, the fitted mode at t = n/f_s exactly, at any playback rate f_s
+//!   (fₖ and τₖ are in Hz and seconds). The strike's first milliseconds keep their
+//!   waveform, its click (the modes' sum Σaₖ·cos φₖ at t = 0) included. A phase within
+//!   10⁻⁹ of ±π/2 keeps a real gain, so a sine-phase object does not pay for the phased
+//!   kernel.
+//! * **Modes in sine phase** (version-1 files, which keep the sound they always had). The
+//!   gain is real: every impulse response starts in sine phase, the fitted phase reduced to
+//!   the gain's sign, sₖ = sign(−sin φₖ) (the sine component of the fitted cosine), the
+//!   amplitude aₖ kept. Energy and spectrum are kept; the waveform of the first
+//!   milliseconds is not.
+//! * **The band part: the attack and the rest.** Each third-octave band is played by
+//!   [`BAND_MODES`] modes spread evenly (in log frequency) through the band, ringing at the
+//!   residual envelope's decay (or the band's own time 1/(π·bandwidth) where the envelope has
+//!   none). They are modes of the same bank, driven by the same force as the fitted modes:
+//!   an impulse gives each band's decaying burst (the mallet's contact, the noisy onset,
+//!   dense high modes), and a ball rolling on the object drives them as it drives the modes,
+//!   band-limited noise following its excitation. Their level fills only what the played
+//!   modes do not explain of the recording's own third-octave spectrum
+//!   ([`FittedObject::spectrum`], over [`SPECTRUM_SPAN_S`], by the fit's one measure,
+//!   `band_energies`), measured once in [`LoadedObject::new`]: with phases, what the modes
+//!   explain is their phase-correct spectrum (the fitted modes themselves), so a band the
+//!   modes already fill or exceed gets no band energy and nothing is counted twice; the
+//!   fill is then calibrated by measuring the band part as played by the same measure
+//!   (`explained`), since a short band mode leaks into its neighbours and the measure's
+//!   filters do not pass a whole band flat (about 1 dB). Short modes (< [`SHORT_MODE_S`])
+//!   in a band where the modes exceed the recording are scaled down to it. Files without a
+//!   spectrum fall back to the envelope (its level relative to the recording's energy,
+//!   estimated as E = Σaₖ²τₖ·(1 − e^{−2D/τₖ}) / (1 − Σ10^{Lᵦ/10})), plus, in sine phase,
+//!   what the sine phase loses of the modes' own energy. Slowly decaying bands make
+//!   narrow, tonal band modes: the third-octave energy is right, the fine spectrum between
+//!   partials is not. A short measured transient (the first milliseconds of the residual,
+//!   played as a sample at each onset) was not chosen: under a rolling force there is no
+//!   onset to trigger it, while band modes are linear in the force, strike or roll; and
+//!   with phases the strike's click is already in the modes.
 //! * **Quality.** [`crate::object::quality::Quality::max_modes`] caps the explicit fitted modes
 //!   (16 / 64 / 256 / 256 / all), loudest (aₖ²τₖ) first; the energy of the others is added
 //!   to the band part of their third-octave band (at the energy-weighted decay), so a lower
@@ -44,7 +63,7 @@
 //!   and `modes` are ignored (no mode shapes, no series). At the parameters' defaults the
 //!   object plays exactly as fitted.
 
-use crate::analysis::third_octave::{band_centre_hz, band_energies, band_index, BANDS};
+use crate::analysis::third_octave::{band_centre_hz, band_index, BANDS};
 use std::sync::Arc;
 
 /// One fitted mode: aₖ·e^{−t/τₖ}·cos(2πfₖt + φₖ), t in seconds from the start of the free
@@ -96,9 +115,13 @@ pub struct FittedObject {
     /// Peak |x| of the recording (full scale = 1).
     pub peak: f64,
     /// The recording's own third-octave spectrum over the first [`SPECTRUM_SPAN_S`] of the
-    /// fitted decay ([`band_energies`]); empty in files written before it existed. The band
+    /// fitted decay ([`band_energies`](crate::analysis::third_octave::band_energies)); empty in files written before it existed. The band
     /// part fills what the played modes miss of it.
     pub spectrum: Vec<SpectrumBand>,
+    /// The modes are played from their fitted phase φₖ (complex input gains; object file
+    /// version 2). False for version-1 files, played as they always were: in sine phase,
+    /// the phase reduced to the gain's sign.
+    pub play_phase: bool,
 }
 
 /// One band of a recording's spectrum ([`FittedObject::spectrum`]).
@@ -115,8 +138,10 @@ pub struct SpectrumBand {
 /// over (s, from the start of the free decay; less when the decay is shorter).
 pub const SPECTRUM_SPAN_S: f64 = 0.5;
 
-/// The object file version this build writes and reads.
-pub const OBJECT_VERSION: u64 = 1;
+/// The newest object file version this build reads, and the one it writes for an object
+/// played with its phases ([`FittedObject::play_phase`]); an object read from a version-1
+/// file (sine phase) is written back as version 1, so it keeps its sound.
+pub const OBJECT_VERSION: u64 = 2;
 
 /// Longest decay an object file may give (s): beyond it a mode does not decay.
 pub const MAX_DECAY_S: f64 = 3600.0;
@@ -275,8 +300,11 @@ pub struct LoadedMode {
     pub freq_hz: f64,
     /// Decay (s) as fitted.
     pub decay_s: f64,
-    /// Signed amplitude sₖ·aₖ (module docs).
+    /// Real part of the complex gain, −aₖ·sin φₖ (played with phase), or the signed
+    /// amplitude sₖ·aₖ (sine phase; module docs).
     pub gain: f64,
+    /// Imaginary part of the complex gain, aₖ·cos φₖ (0 in sine phase).
+    pub gain_im: f64,
     /// Side unit uₖ ∈ [−1, 1] (the side weight is w·[`SIDE_SPREAD`]·uₖ).
     pub side: f64,
     /// Third-octave band ([`band_index`]) where its energy goes when the quality drops it.
@@ -310,7 +338,7 @@ pub struct LoadedObject {
 /// (see `phase_energies`).
 pub const SHORT_MODE_S: f64 = 0.05;
 
-/// The span (samples) [`band_energies`] compares over for a fit.
+/// The span (samples) [`band_energies`](crate::analysis::third_octave::band_energies) compares over for a fit.
 pub fn spectrum_span(fit_duration_s: f64, sample_rate_hz: f64) -> usize {
     let span = if fit_duration_s > 0.0 {
         fit_duration_s.min(SPECTRUM_SPAN_S)
@@ -318,53 +346,6 @@ pub fn spectrum_span(fit_duration_s: f64, sample_rate_hz: f64) -> usize {
         SPECTRUM_SPAN_S
     };
     (span * sample_rate_hz).ceil() as usize
-}
-
-/// Per third-octave band ([`band_energies`]), the energy of the modes with their fitted
-/// phases, and as the bank plays them (sine phase, signed gain), both synthesized at the
-/// recording's rate over [`spectrum_span`]. What differs is mostly the onset: a mode that
-/// starts at aₖ·cos φₖ (a step: the strike's click, a skirt falling as 1/f) against one
-/// that starts at zero (1/f²), and overlapping short modes that add up differently. The
-/// third array marks the bands holding a mode shorter than [`SHORT_MODE_S`].
-/// Offline, in [`LoadedObject::new`].
-fn phase_energies(fit: &FittedObject) -> ([f64; BANDS], [f64; BANDS], [bool; BANDS]) {
-    use core::f64::consts::TAU;
-    let mut has = [false; BANDS];
-    let fs = fit.sample_rate_hz;
-    let modes: Vec<&FitMode> = fit.modes.iter().filter(|m| m.amplitude > 0.0).collect();
-    if modes.is_empty() {
-        return ([0.0; BANDS], [0.0; BANDS], has);
-    }
-    for m in modes.iter().filter(|m| m.decay_s < SHORT_MODE_S) {
-        has[band_index(m.freq_hz)] = true;
-    }
-    let len = spectrum_span(fit.duration_s, fs);
-    let (mut xe, mut xs) = (vec![0.0f64; len], vec![0.0f64; len]);
-    for m in &modes {
-        let r = (-1.0 / (m.decay_s * fs)).exp();
-        let (sw, cw) = (TAU * m.freq_hz / fs).sin_cos();
-        let sgn = if -m.phase_rad.sin() < 0.0 { -1.0 } else { 1.0 };
-        // z = a·e^{iφ}·pⁿ: Re z is the fitted mode, Im of a·pⁿ the played one.
-        let (mut zr, mut zi) = (
-            m.amplitude * m.phase_rad.cos(),
-            m.amplitude * m.phase_rad.sin(),
-        );
-        let (mut ur, mut ui) = (m.amplitude, 0.0);
-        for n in 0..len {
-            xe[n] += zr;
-            xs[n] += sgn * ui;
-            let (a, b) = (r * (zr * cw - zi * sw), r * (zr * sw + zi * cw));
-            zr = a;
-            zi = b;
-            let (a, b) = (r * (ur * cw - ui * sw), r * (ur * sw + ui * cw));
-            ur = a;
-            ui = b;
-            if ur.abs() + ui.abs() < 1e-9 * m.amplitude {
-                break;
-            }
-        }
-    }
-    (band_energies(&xe, fs), band_energies(&xs, fs), has)
 }
 
 /// SplitMix64: the deterministic side units and signs.
@@ -398,25 +379,32 @@ impl LoadedObject {
             .iter()
             .enumerate()
             .filter(|(_, m)| m.amplitude > 0.0)
-            .map(|(i, m)| LoadedMode {
-                freq_hz: m.freq_hz,
-                decay_s: m.decay_s,
-                gain: if -m.phase_rad.sin() < 0.0 {
-                    -m.amplitude
+            .map(|(i, m)| {
+                let (gain, gain_im) = if fit.play_phase {
+                    let (sin, cos) = m.phase_rad.sin_cos();
+                    // A sine phase (φ = ±π/2 up to rounding) keeps a real gain, and the
+                    // cheaper kernel, when no mode needs more.
+                    let cos = if cos.abs() < 1e-9 { 0.0 } else { cos };
+                    (-m.amplitude * sin, m.amplitude * cos)
+                } else if -m.phase_rad.sin() < 0.0 {
+                    (-m.amplitude, 0.0)
                 } else {
-                    m.amplitude
-                },
-                side: unit(i as u64),
-                band: band_index(m.freq_hz),
+                    (m.amplitude, 0.0)
+                };
+                LoadedMode {
+                    freq_hz: m.freq_hz,
+                    decay_s: m.decay_s,
+                    gain,
+                    gain_im,
+                    side: unit(i as u64),
+                    band: band_index(m.freq_hz),
+                }
             })
             .collect();
-        let energy = |m: &LoadedMode| m.gain * m.gain * m.decay_s;
+        let energy = |m: &LoadedMode| (m.gain * m.gain + m.gain_im * m.gain_im) * m.decay_s;
         modes.sort_by(|a, b| energy(b).total_cmp(&energy(a)));
         modes.truncate(MAX_FITTED_MODES);
-        let e_modes: f64 = modes
-            .iter()
-            .map(|m| m.gain * m.gain * m.decay_s * held(m.decay_s))
-            .sum();
+        let e_modes: f64 = modes.iter().map(|m| energy(m) * held(m.decay_s)).sum();
         let env_share: f64 = fit
             .envelope
             .iter()
@@ -459,7 +447,8 @@ impl LoadedObject {
             }
             t
         });
-        let span_s = spectrum_span(fit.duration_s, fit.sample_rate_hz) as f64 / fit.sample_rate_hz;
+        let len = spectrum_span(fit.duration_s, fit.sample_rate_hz);
+        let span_s = len as f64 / fit.sample_rate_hz;
         // The share of a decay's energy inside the compared span (its last 30 % faded: about
         // the first 85 %).
         let inside = |tau: f64| 1.0 - (-2.0 * 0.85 * span_s / tau).exp();
@@ -479,6 +468,11 @@ impl LoadedObject {
                         let e = miss / inside(tau);
                         fill[i] = (e, e * tau);
                     }
+                }
+                // What the band part adds, measured as the target was, sets its level
+                // (objects played with phase; version-1 objects keep their sound).
+                if fit.play_phase {
+                    calibrate_fill(&mut fill, &t, &played, fit.sample_rate_hz, len);
                 }
                 // The target replaces the modes-with-phases estimate and the envelope.
                 (t, fill)
@@ -504,6 +498,7 @@ impl LoadedObject {
         }
         for m in modes.iter_mut().filter(|m| m.decay_s < SHORT_MODE_S) {
             m.gain *= mode_scale[m.band];
+            m.gain_im *= mode_scale[m.band];
         }
         let mut bands = [LoadedBand {
             amplitude: 0.0,
@@ -588,6 +583,9 @@ impl LoadedObject {
         band_centre_hz(i) * 2f64.powf(((j as f64 + 0.5) / BAND_MODES as f64 - 0.5) / 3.0)
     }
 }
+
+mod explained;
+use explained::{calibrate_fill, phase_energies};
 
 #[cfg(feature = "presets")]
 mod file_json;

@@ -13,6 +13,12 @@
 //! bit-identical output; the FMA kernel rounds twice instead of four times per update, so it
 //! differs from them by a few f32 ulps per sample (bounded in the bank's tests over long,
 //! high-Q runs). All three accumulate the modes in the same order.
+//!
+//! Each kernel comes in two variants (const generic `PH`): real input gains (the recipe
+//! objects: the input enters Re z only) and complex ones (fitted objects played with their
+//! phase: the input also enters Im z with gain h, one more multiply–add per mode·sample).
+//! The bank runs the complex variant only while some mode has h ≠ 0, so objects with real
+//! gains run exactly the arithmetic they always ran.
 
 /// Modes processed together; the bank's capacity is padded to a multiple of this.
 pub const LANES: usize = 8;
@@ -83,10 +89,12 @@ impl Kernel {
 
 impl Kernel {
     /// Run `m` over the input chunk `x` (at most [`BLOCK`] samples), adding each group's
-    /// lanes into `acc` (and, `ST`, the side into `side`). The caller checked
-    /// [`is_available`](Self::is_available).
+    /// lanes into `acc` (and, `ST`, the side into `side`). `PH`: the input also enters the
+    /// imaginary part of the state with gain `h` (complex input gains, one more multiply–add
+    /// per mode·sample); without it `h` is not read and the arithmetic is exactly the
+    /// real-gain kernel's. The caller checked [`is_available`](Self::is_available).
     #[inline]
-    pub(crate) fn run<const ST: bool>(
+    pub(crate) fn run<const ST: bool, const PH: bool>(
         self,
         m: &mut Modes<'_>,
         x: &[f32],
@@ -95,10 +103,10 @@ impl Kernel {
     ) {
         match self {
             #[cfg(target_arch = "x86_64")]
-            Kernel::Avx2Fma => x86::avx2_fma::<ST>(m, x, acc, side),
+            Kernel::Avx2Fma => x86::avx2_fma::<ST, PH>(m, x, acc, side),
             #[cfg(target_arch = "x86_64")]
-            Kernel::Sse2 => x86::sse2::<ST>(m, x, acc, side),
-            _ => scalar::<ST>(m, x, acc, side),
+            Kernel::Sse2 => x86::sse2::<ST, PH>(m, x, acc, side),
+            _ => scalar::<ST, PH>(m, x, acc, side),
         }
     }
 }
@@ -110,6 +118,8 @@ pub(crate) struct Modes<'a> {
     pub(crate) c: &'a [f32],
     pub(crate) s: &'a [f32],
     pub(crate) g: &'a [f32],
+    /// Imaginary input gains (read only by the `PH` kernels).
+    pub(crate) h: &'a [f32],
     pub(crate) d: &'a [f32],
 }
 
@@ -139,21 +149,35 @@ pub(crate) fn lane_sums(kernel: Kernel, rows: &[[f32; LANES]], out: &mut [f32]) 
 }
 
 /// The reference kernel: for each group of [`LANES`] modes, for each sample,
-/// `z ← p·z + g·x`, `acc[t] += Im z` (and, stereo, `side[t] += d·Im z`), in exactly the
-/// order the SSE2 kernel uses.
-fn scalar<const ST: bool>(m: &mut Modes<'_>, x: &[f32], acc: &mut Acc, side: &mut Acc) {
+/// `z ← p·z + g·x` (`PH`: `z ← p·z + (g + i·h)·x`), `acc[t] += Im z` (and, stereo,
+/// `side[t] += d·Im z`), in exactly the order the SSE2 kernel uses.
+fn scalar<const ST: bool, const PH: bool>(
+    m: &mut Modes<'_>,
+    x: &[f32],
+    acc: &mut Acc,
+    side: &mut Acc,
+) {
     for o in (0..m.c.len()).step_by(LANES) {
         let lanes = o..o + LANES;
         let c: [f32; LANES] = m.c[lanes.clone()].try_into().expect("whole group");
         let s: [f32; LANES] = m.s[lanes.clone()].try_into().expect("whole group");
         let g: [f32; LANES] = m.g[lanes.clone()].try_into().expect("whole group");
         let d: [f32; LANES] = m.d[lanes.clone()].try_into().expect("whole group");
+        let h: [f32; LANES] = if PH {
+            m.h[lanes.clone()].try_into().expect("whole group")
+        } else {
+            [0.0; LANES]
+        };
         let mut re: [f32; LANES] = m.re[lanes.clone()].try_into().expect("whole group");
         let mut im: [f32; LANES] = m.im[lanes.clone()].try_into().expect("whole group");
         for (t, &xt) in x.iter().enumerate() {
             for l in 0..LANES {
                 let nr = (c[l] * re[l] - s[l] * im[l]) + g[l] * xt;
-                let ni = s[l] * re[l] + c[l] * im[l];
+                let ni = if PH {
+                    (s[l] * re[l] + c[l] * im[l]) + h[l] * xt
+                } else {
+                    s[l] * re[l] + c[l] * im[l]
+                };
                 re[l] = nr;
                 im[l] = ni;
                 acc.0[t][l] += ni;
@@ -216,7 +240,7 @@ mod x86 {
     /// Groups interleaved by the SSE2 kernel (2 × 8 = 16 modes in flight).
     const G_SSE: usize = 2;
 
-    pub(super) fn avx2_fma<const ST: bool>(
+    pub(super) fn avx2_fma<const ST: bool, const PH: bool>(
         m: &mut Modes<'_>,
         x: &[f32],
         acc: &mut Acc,
@@ -235,17 +259,17 @@ mod x86 {
             // bounds they check themselves.
             unsafe {
                 match step {
-                    4 => avx2_groups::<4, ST>(m, k * LANES, x, acc, side),
-                    3 => avx2_groups::<3, ST>(m, k * LANES, x, acc, side),
-                    2 => avx2_groups::<2, ST>(m, k * LANES, x, acc, side),
-                    _ => avx2_groups::<1, ST>(m, k * LANES, x, acc, side),
+                    4 => avx2_groups::<4, ST, PH>(m, k * LANES, x, acc, side),
+                    3 => avx2_groups::<3, ST, PH>(m, k * LANES, x, acc, side),
+                    2 => avx2_groups::<2, ST, PH>(m, k * LANES, x, acc, side),
+                    _ => avx2_groups::<1, ST, PH>(m, k * LANES, x, acc, side),
                 }
             }
             k += step;
         }
     }
 
-    pub(super) fn sse2<const ST: bool>(
+    pub(super) fn sse2<const ST: bool, const PH: bool>(
         m: &mut Modes<'_>,
         x: &[f32],
         acc: &mut Acc,
@@ -255,24 +279,24 @@ mod x86 {
         let mut k = 0;
         while k < groups {
             if groups - k >= G_SSE {
-                sse2_groups::<G_SSE, ST>(m, k * LANES, x, acc, side);
+                sse2_groups::<G_SSE, ST, PH>(m, k * LANES, x, acc, side);
                 k += G_SSE;
             } else {
-                sse2_groups::<1, ST>(m, k * LANES, x, acc, side);
+                sse2_groups::<1, ST, PH>(m, k * LANES, x, acc, side);
                 k += 1;
             }
         }
     }
 
     /// `G` groups starting at mode `o`, AVX2 + FMA: per sample
-    /// `re ← c·re + (g·x − s·im)`, `im ← s·re + c·im` (fused), `acc[t] += im` and, stereo,
-    /// `side[t] += d·im` (fused).
+    /// `re ← c·re + (g·x − s·im)`, `im ← s·re + c·im` (fused; `PH`:
+    /// `im ← s·re + (c·im + h·x)`), `acc[t] += im` and, stereo, `side[t] += d·im` (fused).
     ///
     /// # Safety
     /// The CPU must support AVX2 and FMA.
     #[target_feature(enable = "avx2,fma")]
     #[allow(unused_unsafe)] // value intrinsics are safe here from Rust 1.87; MSRV is 1.85
-    unsafe fn avx2_groups<const G: usize, const ST: bool>(
+    unsafe fn avx2_groups<const G: usize, const ST: bool, const PH: bool>(
         m: &mut Modes<'_>,
         o: usize,
         x: &[f32],
@@ -281,10 +305,10 @@ mod x86 {
     ) {
         assert!(o + G * LANES <= m.c.len() && m.re.len() == m.c.len());
         assert!(m.im.len() == m.c.len() && m.s.len() == m.c.len() && m.g.len() == m.c.len());
-        assert!(m.d.len() == m.c.len());
+        assert!(m.d.len() == m.c.len() && m.h.len() == m.c.len());
         assert!(x.len() <= BLOCK);
         // SAFETY: every pointer below addresses `o + k·LANES .. o + (k+1)·LANES` with
-        // k < G, inside the five arrays (asserted above), or row t < x.len() ≤ BLOCK of
+        // k < G, inside the seven arrays (asserted above), or row t < x.len() ≤ BLOCK of
         // `acc`, whose rows are 32 bytes and 32-byte aligned (`Acc` is `align(32)`), as the
         // aligned load/store require. The state is written through pointers taken from
         // `Modes`' exclusive slices, which nothing else touches meanwhile.
@@ -296,6 +320,7 @@ mod x86 {
             let mut s = [_mm256_setzero_ps(); G];
             let mut g = [_mm256_setzero_ps(); G];
             let mut d = [_mm256_setzero_ps(); G];
+            let mut h = [_mm256_setzero_ps(); G];
             for k in 0..G {
                 let p = o + k * LANES;
                 re[k] = _mm256_loadu_ps(pre.add(p));
@@ -305,6 +330,9 @@ mod x86 {
                 g[k] = _mm256_loadu_ps(m.g.as_ptr().add(p));
                 if ST {
                     d[k] = _mm256_loadu_ps(m.d.as_ptr().add(p));
+                }
+                if PH {
+                    h[k] = _mm256_loadu_ps(m.h.as_ptr().add(p));
                 }
             }
             let pacc = acc.0.as_mut_ptr() as *mut f32;
@@ -322,7 +350,12 @@ mod x86 {
                 for k in 0..G {
                     let gx = _mm256_mul_ps(g[k], xv);
                     let nr = _mm256_fmadd_ps(c[k], re[k], _mm256_fnmadd_ps(s[k], im[k], gx));
-                    let ni = _mm256_fmadd_ps(s[k], re[k], _mm256_mul_ps(c[k], im[k]));
+                    let ni = if PH {
+                        let ci = _mm256_fmadd_ps(c[k], im[k], _mm256_mul_ps(h[k], xv));
+                        _mm256_fmadd_ps(s[k], re[k], ci)
+                    } else {
+                        _mm256_fmadd_ps(s[k], re[k], _mm256_mul_ps(c[k], im[k]))
+                    };
                     re[k] = nr;
                     im[k] = ni;
                     a = _mm256_add_ps(a, ni);
@@ -344,10 +377,10 @@ mod x86 {
     }
 
     /// `G` groups starting at mode `o`, SSE2 (two 4-lane halves per group): per sample
-    /// `re ← (c·re − s·im) + g·x`, `im ← s·re + c·im`, `acc[t] += im` and, stereo,
-    /// `side[t] += d·im`, rounded exactly as the scalar kernel rounds.
+    /// `re ← (c·re − s·im) + g·x`, `im ← s·re + c·im` (`PH`: `+ h·x`), `acc[t] += im` and,
+    /// stereo, `side[t] += d·im`, rounded exactly as the scalar kernel rounds.
     #[allow(unused_unsafe)] // value intrinsics are safe here from Rust 1.87; MSRV is 1.85
-    fn sse2_groups<const G: usize, const ST: bool>(
+    fn sse2_groups<const G: usize, const ST: bool, const PH: bool>(
         m: &mut Modes<'_>,
         o: usize,
         x: &[f32],
@@ -356,10 +389,10 @@ mod x86 {
     ) {
         assert!(o + G * LANES <= m.c.len() && m.re.len() == m.c.len());
         assert!(m.im.len() == m.c.len() && m.s.len() == m.c.len() && m.g.len() == m.c.len());
-        assert!(m.d.len() == m.c.len());
+        assert!(m.d.len() == m.c.len() && m.h.len() == m.c.len());
         assert!(x.len() <= BLOCK);
         // SAFETY: SSE2 is part of the x86-64 baseline. Every pointer addresses
-        // `o + k·LANES + h·4 .. +4` with k < G, h < 2, inside the five arrays (asserted
+        // `o + k·LANES + h·4 .. +4` with k < G, h < 2, inside the seven arrays (asserted
         // above), or half h of row t < x.len() ≤ BLOCK of `acc` (16-byte aligned: rows are
         // 32-byte aligned). The state is written through pointers taken from `Modes`' exclusive
         // slices, which nothing else touches meanwhile.
@@ -368,10 +401,13 @@ mod x86 {
             let z = _mm_setzero_ps();
             let (mut re, mut im) = ([[z; 2]; G], [[z; 2]; G]);
             let (mut c, mut s, mut g) = ([[z; 2]; G], [[z; 2]; G], [[z; 2]; G]);
-            let mut d = [[z; 2]; G];
+            let (mut d, mut hg) = ([[z; 2]; G], [[z; 2]; G]);
             for k in 0..G {
                 for h in 0..2 {
                     let p = o + k * LANES + 4 * h;
+                    if PH {
+                        hg[k][h] = _mm_loadu_ps(m.h.as_ptr().add(p));
+                    }
                     re[k][h] = _mm_loadu_ps(pre.add(p));
                     im[k][h] = _mm_loadu_ps(pim.add(p));
                     c[k][h] = _mm_loadu_ps(m.c.as_ptr().add(p));
@@ -396,7 +432,11 @@ mod x86 {
                         let nr = _mm_add_ps(_mm_sub_ps(cr, si), gx);
                         let sr = _mm_mul_ps(s[k][h], re[k][h]);
                         let ci = _mm_mul_ps(c[k][h], im[k][h]);
-                        let ni = _mm_add_ps(sr, ci);
+                        let ni = if PH {
+                            _mm_add_ps(_mm_add_ps(sr, ci), _mm_mul_ps(hg[k][h], xv))
+                        } else {
+                            _mm_add_ps(sr, ci)
+                        };
                         re[k][h] = nr;
                         im[k][h] = ni;
                         a = _mm_add_ps(a, ni);

@@ -1,5 +1,7 @@
 //! The modes that ring too long for the f32 bank: the same Mathews–Smith recursion as
-//! [`crate::object::bank::ModalBank`] in f64.
+//! [`crate::object::bank::ModalBank`] in f64, with the same complex input gain g + i·h (the
+//! loop that reads h runs only while some slot has h ≠ 0, so real gains compute exactly what
+//! they always computed).
 
 /// Modes whose decay spans more samples than this (τ·f_s) run in f64 ([`LongBank`]): beyond
 /// it the f32 pole's rounding (up to 1.5·2⁻²³ of 1/τ per sample) would shorten the decay by
@@ -20,6 +22,7 @@ pub struct LongBank {
     c: Vec<f64>,
     s: Vec<f64>,
     g: Vec<f64>,
+    h: Vec<f64>,
     d: Vec<f64>,
     used: usize,
     work: u64,
@@ -35,6 +38,7 @@ impl LongBank {
             c: z.clone(),
             s: z.clone(),
             g: z.clone(),
+            h: z.clone(),
             d: z,
             used: 0,
             work: 0,
@@ -67,10 +71,17 @@ impl LongBank {
         }
     }
 
-    /// Set slot `k`'s input gain and side weight.
+    /// Set slot `k`'s real input gain and side weight (imaginary gain 0: sine phase).
     pub fn set_gains(&mut self, k: usize, g: f64, d: f64) {
+        self.set_complex_gains(k, g, 0.0, d);
+    }
+
+    /// Set slot `k`'s complex input gain g + i·h and side weight
+    /// ([`ModalBank::set_complex_gains`](crate::object::bank::ModalBank::set_complex_gains)).
+    pub fn set_complex_gains(&mut self, k: usize, g: f64, h: f64, d: f64) {
         if k < self.capacity() {
             self.g[k] = g;
+            self.h[k] = h;
             self.d[k] = d;
         }
     }
@@ -106,15 +117,34 @@ impl LongBank {
 
     /// Add the used slots' Σ Im z to `mid` and Σ d·Im z to `side` (when given), driven by
     /// `input`. Real-time safe.
-    pub fn process_add(&mut self, input: &[f32], mid: &mut [f32], mut side: Option<&mut [f32]>) {
+    pub fn process_add(&mut self, input: &[f32], mid: &mut [f32], side: Option<&mut [f32]>) {
+        if self.h[..self.used].iter().any(|&h| h != 0.0) {
+            self.run::<true>(input, mid, side);
+        } else {
+            self.run::<false>(input, mid, side);
+        }
+    }
+
+    fn run<const PH: bool>(
+        &mut self,
+        input: &[f32],
+        mid: &mut [f32],
+        mut side: Option<&mut [f32]>,
+    ) {
         let n = input.len().min(mid.len());
         self.work += (self.used * n) as u64;
         for k in 0..self.used {
             let (c, s, g, d) = (self.c[k], self.s[k], self.g[k], self.d[k]);
+            let h = self.h[k];
             let (mut re, mut im) = (self.re[k], self.im[k]);
             for t in 0..n {
-                let nr = c * re - s * im + g * f64::from(input[t]);
-                im = s * re + c * im;
+                let x = f64::from(input[t]);
+                let nr = c * re - s * im + g * x;
+                im = if PH {
+                    s * re + c * im + h * x
+                } else {
+                    s * re + c * im
+                };
                 re = nr;
                 mid[t] += im as f32;
                 if let Some(sd) = side.as_deref_mut() {

@@ -55,7 +55,9 @@
 //!   out, and it is processed only while it rings. The normalization still counts it, so
 //!   culling never changes the loudness. Because the input gain is real (see
 //!   [`crate::object::bank`]), switching a mode's input on or off reaches the output only through
-//!   its rotation: culling and un-culling never click.
+//!   its rotation: culling and un-culling never click. (A fitted object played with its
+//!   phases has complex gains, whose imaginary part reaches the output at once; its gains
+//!   move only with the quality and the material's tilt, never with the ball.)
 //! * **Silence**: when the bank has rung out (all state flushed to zero) and a chunk's
 //!   input is exactly zero, [`Object::process_chunk`] writes zeros without touching a mode.
 //!
@@ -247,6 +249,8 @@ pub struct Object {
     info: Vec<ModeInfo>,
     /// aₖ (0: not sounding) of each explicit mode.
     amp: Vec<f64>,
+    /// Imaginary part of a fitted mode's complex gain, as `amp` (0: sine phase, recipes).
+    amp_im: Vec<f64>,
     /// Pickup gains qᴸ, qᴿ of each explicit mode.
     pick: Vec<[f64; 2]>,
     high: [HighGroup; HIGH_SLOTS_MAX],
@@ -308,6 +312,7 @@ impl Object {
             long_ringing: false,
             info: vec![ModeInfo::SILENT; REFERENCE_MODES],
             amp: vec![0.0; REFERENCE_MODES],
+            amp_im: vec![0.0; REFERENCE_MODES],
             pick: vec![[0.0; 2]; REFERENCE_MODES],
             high: [HighGroup::EMPTY; HIGH_SLOTS_MAX],
             n_high: 0,
@@ -555,6 +560,7 @@ impl Object {
     /// with no input (no click).
     pub fn set_loaded(&mut self, object: Option<Arc<LoadedObject>>) -> Option<Arc<LoadedObject>> {
         let old = core::mem::replace(&mut self.loaded, object);
+        self.amp_im.iter_mut().for_each(|h| *h = 0.0);
         if self.loaded.is_none() {
             self.modes = self.explicit_count();
         }
@@ -571,7 +577,8 @@ impl Object {
 
     /// The input gain per unit of mode amplitude of the last gain update: the object's
     /// impulse response divided by this is Σ aₖ·e^{−t/τₖ}·sin(2πfₖt) in the amplitudes'
-    /// own units (for a fitted object, the recording's full scale).
+    /// own units (for a fitted object, the recording's full scale; with its phases,
+    /// Σ aₖ·e^{−t/τₖ}·cos(2πfₖt + φₖ)).
     pub fn gain_norm(&self) -> f64 {
         self.norm
     }

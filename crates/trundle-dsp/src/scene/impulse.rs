@@ -17,7 +17,8 @@ pub const IMPULSE_FLOOR_DB: f64 = -90.0;
 /// source; `object`, or the recipe object of `params` when `None`, with `params`'
 /// controls. Returns L and R scaled to the modes' own amplitude units
 /// ([`Object::gain_norm`](crate::object::resonator::Object::gain_norm)): for a fitted object, the
-/// recording's full scale, (L + R)/2 = Σ sₖ·aₖ·e^{−t/τₖ}·sin(2πfₖt) plus the band part.
+/// recording's full scale, (L + R)/2 = Σ aₖ·e^{−t/τₖ}·cos(2πfₖt + φₖ) plus the band part
+/// (version-1 objects, in sine phase: Σ sₖ·aₖ·e^{−t/τₖ}·sin(2πfₖt)).
 /// `max_frames` long when `fixed_length`, else until it has decayed by
 /// [`IMPULSE_FLOOR_DB`] (held for 50 ms) or `max_frames`.
 ///

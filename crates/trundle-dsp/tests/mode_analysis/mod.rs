@@ -342,6 +342,7 @@ pub fn bank_impulse_response(c: f32, s: f32, n: usize) -> Vec<f32> {
             c,
             s,
             g: 1.0,
+            h: 0.0,
             d: 0.0,
         },
     );

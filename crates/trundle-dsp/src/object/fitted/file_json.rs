@@ -7,7 +7,7 @@ use serde_json::{json, Value};
 /// The object file of `fit`, naming the recording `source`.
 pub fn to_json(fit: &FittedObject, source: &str) -> Value {
     json!({
-        "trundle_object": OBJECT_VERSION,
+        "trundle_object": if fit.play_phase { OBJECT_VERSION } else { 1 },
         "source": source,
         "sample_rate_hz": fit.sample_rate_hz,
         "onset_s": fit.onset_s,
@@ -56,7 +56,7 @@ pub fn from_json(v: &Value) -> Result<(FittedObject, String), String> {
         ));
     }
     if version == 0 {
-        return Err("\"trundle_object\" must be 1".into());
+        return Err(format!("\"trundle_object\" must be 1 … {OBJECT_VERSION}"));
     }
     let num = |o: &Value, k: &str, at: &str| -> Result<f64, String> {
         o.get(k)
@@ -153,6 +153,8 @@ pub fn from_json(v: &Value) -> Result<(FittedObject, String), String> {
         residual_db: num(v, "residual_db", "")?,
         peak: num(v, "peak", "")?,
         spectrum,
+        // Version 1 played every mode in sine phase: its files keep their sound.
+        play_phase: version >= 2,
     };
     fit.validate()?;
     Ok((fit, source))

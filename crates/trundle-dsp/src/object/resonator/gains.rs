@@ -6,12 +6,12 @@
 use super::*;
 
 impl Object {
-    /// Set bank slot `k`'s input gain and side weight, wherever it runs.
-    pub(super) fn set_slot_gains(&mut self, k: usize, g: f64, d: f64) {
+    /// Set bank slot `k`'s complex input gain g + i·h and side weight, wherever it runs.
+    pub(super) fn set_slot_gains(&mut self, k: usize, g: f64, h: f64, d: f64) {
         match self.long_of[k] {
-            NOT_LONG => self.bank.set_gains(k, g as f32, d as f32),
+            NOT_LONG => self.bank.set_complex_gains(k, g as f32, h as f32, d as f32),
             j => {
-                self.long.set_gains(usize::from(j), g, d);
+                self.long.set_complex_gains(usize::from(j), g, h, d);
                 self.bank.set_gains(k, 0.0, 0.0);
             }
         }
@@ -152,11 +152,11 @@ impl Object {
         let n = self.modes;
         let (mut energy, mut loudest) = (0.0f64, 0.0f64);
         for k in 0..n {
-            let a = self.amp[k];
-            let p = a * a * self.info[k].decay_s;
+            let (a, h) = (self.amp[k], self.amp_im[k]);
+            let p = (a * a + h * h) * self.info[k].decay_s;
             energy += p;
             loudest = loudest.max(p);
-            if a != 0.0 {
+            if a != 0.0 || h != 0.0 {
                 self.info[k].gain = a;
                 self.info[k].side = w * SIDE_SPREAD * self.pick[k][0];
             }
@@ -182,19 +182,20 @@ impl Object {
         self.culled = 0;
         let mut last_active = 0;
         for k in 0..n.max(self.bank.active()).min(self.info.len()) {
-            let sounding = k < n && self.amp[k] != 0.0;
+            let sounding = k < n && (self.amp[k] != 0.0 || self.amp_im[k] != 0.0);
             let info = self.info[k];
-            let culled = sounding && info.gain * info.gain * info.decay_s < cull_below;
+            let h = self.amp_im[k];
+            let culled = sounding && (info.gain * info.gain + h * h) * info.decay_s < cull_below;
             self.culled += culled as usize;
             let g = if sounding { info.gain * norm } else { 0.0 };
             self.info[k].gain = g;
             if sounding && !culled {
-                self.set_slot_gains(k, g, info.side);
+                self.set_slot_gains(k, g, h * norm, info.side);
                 last_active = k + 1;
             } else {
                 // Dropped, beyond the count or culled: no input; a mode still ringing keeps
                 // its pole (set in `update_poles`) and rings out at its own rate.
-                self.set_slot_gains(k, 0.0, info.side);
+                self.set_slot_gains(k, 0.0, 0.0, info.side);
                 if self.slot_ringing(k) || (sounding && culled) {
                     last_active = k + 1;
                 }
@@ -206,10 +207,10 @@ impl Object {
             if j < high {
                 self.high[j].info.gain *= norm;
                 let info = self.high[j].info;
-                self.set_slot_gains(slot, info.gain, info.side);
+                self.set_slot_gains(slot, info.gain, 0.0, info.side);
             } else {
                 let d = self.high[j].info.side;
-                self.set_slot_gains(slot, 0.0, d);
+                self.set_slot_gains(slot, 0.0, 0.0, d);
                 if self.slot_ringing(slot) {
                     tail = j + 1;
                 }

@@ -19,7 +19,8 @@ impl Object {
                 let j = slot - HIGH_BASE;
                 (j < self.n_high, self.high[j].info)
             } else {
-                (self.amp[slot] != 0.0, self.info[slot])
+                let fed = self.amp[slot] != 0.0 || self.amp_im[slot] != 0.0;
+                (fed, self.info[slot])
             };
             if (live || self.slot_ringing(slot))
                 && info.decay_s * fs > LONG_MODE_SAMPLES
@@ -233,10 +234,11 @@ impl Object {
         let mut over = [(0.0f64, 0.0f64); BANDS];
         let mut n = 0usize;
         let span = self.modes.max(self.bank.active()).min(self.info.len());
-        let place = |o: &mut Self, k: usize, f: f64, tau: f64, g: f64, side: f64| {
+        let place = |o: &mut Self, k: usize, f: f64, tau: f64, (g, h): (f64, f64), side: f64| {
             o.info[k].freq_hz = f;
             o.info[k].decay_s = tau;
             o.amp[k] = g;
+            o.amp_im[k] = h;
             o.pick[k] = [side, 0.0];
             let (c, s) = phasor_coeffs(f, tau, fs);
             let mc = o.bank.mode(k);
@@ -247,12 +249,15 @@ impl Object {
             if !(f < nyquist && f >= MIN_MODE_HZ) {
                 continue;
             }
-            let (tau, g) = modify(f, m.decay_s, m.gain);
+            // The tilt scales both parts of the gain: k·g is bit for bit what modify(…, g)
+            // gave before complex gains (one product, commutative), and k = 1 at defaults.
+            let (tau, k_a) = modify(f, m.decay_s, 1.0);
+            let (g, h) = (k_a * m.gain, k_a * m.gain_im);
             if n < cap {
-                place(self, n, f, tau, g, m.side);
+                place(self, n, f, tau, (g, h), m.side);
                 n += 1;
             } else {
-                let e = g * g * tau;
+                let e = (g * g + h * h) * tau;
                 over[m.band].0 += e;
                 over[m.band].1 += e * tau;
             }
@@ -280,7 +285,7 @@ impl Object {
                         n,
                         f,
                         tau,
-                        a * LoadedObject::band_sign(i, j),
+                        (a * LoadedObject::band_sign(i, j), 0.0),
                         obj.band_side(i, j),
                     );
                     n += 1;
@@ -290,6 +295,7 @@ impl Object {
         // Slots no longer in use ring out with their pole and no input.
         for k in n..span {
             self.amp[k] = 0.0;
+            self.amp_im[k] = 0.0;
             if !self.slot_ringing(k) {
                 self.bank.set_mode(k, ModeCoeffs::default());
             }

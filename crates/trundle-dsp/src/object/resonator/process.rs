@@ -81,11 +81,11 @@ impl Object {
         self.long_ringing = self.long.flush();
         // Shrink the processed ranges once ringing-out modes have decayed.
         let active = self.bank.active();
-        if active > 0 && self.bank.mode(active - 1).g == 0.0 {
+        let fed = |m: ModeCoeffs| m.g != 0.0 || m.h != 0.0;
+        if active > 0 && !fed(self.bank.mode(active - 1)) {
             let mut last = 0;
             for k in 0..active {
-                if self.bank.mode(k).g != 0.0 || self.slot_ringing(k) || self.long_of[k] != NOT_LONG
-                {
+                if fed(self.bank.mode(k)) || self.slot_ringing(k) || self.long_of[k] != NOT_LONG {
                     last = k + 1;
                 }
             }
