@@ -7,7 +7,8 @@
 //!   strongest); the median |difference| in cents ≤ [`MAX_CENTS`]. Both spectra are taken
 //!   the same way (the whole signal under a half Hann falling from 1 at the strike to 0 at
 //!   its end — a cut ring leaks no ripple that could pass for modes —, zero-padded 4×, a peak
-//!   standing 3 dB above the lowest point either side within two unpadded bins, parabolic
+//!   of 3 dB prominence (the lowest point either side before the spectrum rises above it
+//!   again, within 1000 unpadded bins), parabolic
 //!   interpolation of the log magnitude), so their biases cancel.
 //! * **Decay.** Around each of those peaks a narrow band (a Hann window tuned to the peak,
 //!   its main lobe reaching to the nearest other peak: ±Δ, 2·f_s/Δ samples long, hop a
@@ -93,19 +94,33 @@ fn spectrum_db(x: &[f64], n: usize) -> Vec<f64> {
         .collect()
 }
 
-/// Local maxima of `db` in bins [lo, hi) within `range_db` of the largest there and 3 dB
-/// above the lowest point within `reach` bins either side, as (interpolated frequency in
-/// bins, level dB), loudest first.
+/// Local maxima of `db` in bins [lo, hi) within `range_db` of the largest there and with a
+/// prominence of 3 dB (on either side, the lowest point before the spectrum rises above the
+/// peak again, searched up to `reach` bins away, lies 3 dB under it), as (interpolated
+/// frequency in bins, level dB), loudest first.
 fn peaks(db: &[f64], lo: usize, hi: usize, range_db: f64, reach: usize) -> Vec<(f64, f64)> {
     let hi = hi.min(db.len() - 1);
     let top = db[lo..hi].iter().fold(f64::NEG_INFINITY, |a, &v| a.max(v));
-    let low = |a: usize, b: usize| db[a..=b].iter().fold(f64::INFINITY, |m, &v| m.min(v));
+    let prominent = |k: usize| {
+        let mut left = db[k];
+        for &v in db[k.saturating_sub(reach)..k].iter().rev() {
+            if v > db[k] {
+                break;
+            }
+            left = left.min(v);
+        }
+        let mut right = db[k];
+        for &v in &db[k + 1..(k + 1 + reach).min(db.len())] {
+            if v > db[k] {
+                break;
+            }
+            right = right.min(v);
+        }
+        db[k] >= left.max(right) + 3.0
+    };
     let mut out: Vec<(f64, f64)> = (lo.max(1)..hi)
         .filter(|&k| db[k] > db[k - 1] && db[k] >= db[k + 1] && db[k] >= top - range_db)
-        .filter(|&k| {
-            db[k] >= low(k.saturating_sub(reach), k) + 3.0
-                && db[k] >= low(k, (k + reach).min(db.len() - 1)) + 3.0
-        })
+        .filter(|&k| prominent(k))
         .map(|k| {
             let (a, b, c) = (db[k - 1], db[k], db[k + 1]);
             let den = a - 2.0 * b + c;
@@ -177,7 +192,7 @@ pub fn judge(recording: &[f64], resynthesis: &[f64], sample_rate_hz: f64) -> Ver
     let (sx, sy) = (spectrum_db(recording, nfft), spectrum_db(y, nfft));
     // The 12 strongest, two unpadded bins (8 padded bins) apart at least.
     let mut chosen: Vec<f64> = Vec::new();
-    for (k, _) in peaks(&sx, lo, hi, 60.0, 8) {
+    for (k, _) in peaks(&sx, lo, hi, 60.0, 4000) {
         if chosen.iter().all(|&c| (c - k).abs() >= 8.0) {
             chosen.push(k);
             if chosen.len() == PEAKS {
@@ -185,7 +200,7 @@ pub fn judge(recording: &[f64], resynthesis: &[f64], sample_rate_hz: f64) -> Ver
             }
         }
     }
-    let ypk = peaks(&sy, lo, hi, 60.0, 8);
+    let ypk = peaks(&sy, lo, hi, 60.0, 4000);
     let mut out = Vec::new();
     let mut cents = Vec::new();
     let mut ratios = Vec::new();
