@@ -40,8 +40,11 @@ fn u32_at(b: &[u8], at: usize) -> u32 {
     u32::from_le_bytes([b[at], b[at + 1], b[at + 2], b[at + 3]])
 }
 
-/// Where the chunks `smpl` and `shdr` are (offset of their data, size in bytes).
-fn locate(file: &mut File) -> Result<((u64, u32), (u64, u32)), String> {
+/// A chunk's data: offset in the file and size in bytes.
+type Chunk = (u64, u32);
+
+/// Where the chunks `smpl` and `shdr` are.
+fn locate(file: &mut File) -> Result<(Chunk, Chunk), String> {
     let mut head = [0u8; 12];
     file.read_exact(&mut head).map_err(|e| e.to_string())?;
     if &head[0..4] != b"RIFF" || &head[8..12] != b"sfbk" {

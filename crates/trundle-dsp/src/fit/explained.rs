@@ -28,7 +28,7 @@ pub struct BandExplained {
 
 /// Whether a fit with this overall residual (dB) explains nothing (NaN counts as poor).
 pub fn is_poor(residual_db: f64) -> bool {
-    !(residual_db < POOR_FIT_DB)
+    residual_db.is_nan() || residual_db >= POOR_FIT_DB
 }
 
 /// The message a poor fit is refused with (`what` names the recording).

@@ -46,8 +46,11 @@ fn vandermonde(n: usize, poles: &[Complex<f64>]) -> DMatrix<Complex<f64>> {
     v
 }
 
+/// A complex matrix.
+type CMatrix = DMatrix<Complex<f64>>;
+
 /// Thin QR of V: (Q, R), or `None` when V has lost rank (two poles merged).
-fn thin_qr(v: &DMatrix<Complex<f64>>) -> Option<(DMatrix<Complex<f64>>, DMatrix<Complex<f64>>)> {
+fn thin_qr(v: &CMatrix) -> Option<(CMatrix, CMatrix)> {
     let qr = v.clone().qr();
     let (q, r) = (qr.q(), qr.r());
     let top = (0..r.ncols()).fold(0.0f64, |a, i| a.max(r[(i, i)].norm()));
@@ -61,7 +64,7 @@ fn thin_qr(v: &DMatrix<Complex<f64>>) -> Option<(DMatrix<Complex<f64>>, DMatrix<
 fn project(
     y: &DVector<Complex<f64>>,
     v: &DMatrix<Complex<f64>>,
-) -> Option<(DVector<Complex<f64>>, f64, DMatrix<Complex<f64>>)> {
+) -> Option<(DVector<Complex<f64>>, f64, CMatrix)> {
     let (q, r) = thin_qr(v)?;
     let qty = q.adjoint() * y;
     let c = r.solve_upper_triangular(&qty)?;
@@ -134,7 +137,10 @@ pub fn refine(y: &[Complex<f64>], poles: &[Complex<f64>], free: &[bool]) -> Opti
                 trial[2 * kq] += step[2 * col];
                 trial[2 * kq + 1] += step[2 * col + 1];
             }
-            if trial.chunks(2).any(|t| !(t[0] > 0.0) || !t[1].is_finite()) {
+            if trial
+                .chunks(2)
+                .any(|t| t[0].is_nan() || t[0] <= 0.0 || !t[1].is_finite())
+            {
                 lambda *= 8.0;
                 continue;
             }
