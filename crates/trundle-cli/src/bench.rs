@@ -255,6 +255,7 @@ fn fitted_object(play_phase: bool) -> Result<Arc<LoadedObject>, CliError> {
             decay_s: 1.2 / (1.0 + 0.5 * k as f64),
             amplitude: 0.2 / (1.0 + 0.1 * k as f64),
             phase_rad: 2.4 * k as f64 - 3.0,
+            decay_sd_s: 0.0,
         })
         .collect();
     let object = FittedObject {

@@ -6,7 +6,11 @@
 //! ```
 //!
 //! A recording that is not one decaying strike (silence, noise, clipped, too short, several
-//! strikes) is refused with one `error:` line and exit code 2; nothing is written.
+//! strikes) is refused with one `error:` line and exit code 2; nothing is written. So is a
+//! fit that explains nothing (its residual at or above 0 dB re the recording:
+//! [`trundle_dsp::fit::explained`]), unless `--keep-poor-fit` (then it is written with a
+//! `warning:` line on stderr). The summary says how much of the recording the modes
+//! explain, third-octave band by band, and each strong mode's decay with its uncertainty.
 
 use crate::atomic::TempFile;
 use crate::error::{failure, input, quote, CliError};
@@ -14,6 +18,7 @@ use crate::output::check_destination;
 use serde_json::json;
 use std::io::Write;
 use std::path::{Path, PathBuf};
+use trundle_dsp::fit::explained::{explained_by_band, is_poor, poor_fit_message, BandExplained};
 use trundle_dsp::fit::{fit_strike, json::to_json, resynthesize, FittedObject};
 use trundle_dsp::object::fitted::{LoadedObject, ObjectFile};
 use trundle_dsp::scene::impulse::impulse_response;
@@ -35,6 +40,10 @@ pub struct FitObjectArgs {
     /// Overwrite an existing file.
     #[arg(long)]
     pub force: bool,
+    /// Write the object even when the fit explains nothing (its residual at or above 0 dB
+    /// re the recording), which is otherwise refused (exit code 2).
+    #[arg(long)]
+    pub keep_poor_fit: bool,
     /// Print the summary as JSON.
     #[arg(long)]
     pub json: bool,
@@ -83,14 +92,31 @@ pub fn run(args: &FitObjectArgs) -> Result<String, CliError> {
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
-    let v = to_json(&fit, &source);
-    let text = serde_json::to_string_pretty(&v).expect("JSON values serialize") + "\n";
-    write_text(&args.output, &text, args.force)?;
-    // Log-spectral distance between the recording's decay and the modes alone.
+    // How much of the recording the modes explain, band by band; a fit that explains
+    // nothing is refused before anything is written.
     let fs = fit.sample_rate_hz;
     let a = (fit.onset_s * fs).round() as usize;
     let b = (a + (fit.duration_s * fs).round() as usize).min(samples.len());
     let model = resynthesize(&fit.modes, fs, b - a);
+    let bands = explained_by_band(&samples[a..b], &model, fs);
+    let poor = is_poor(fit.residual_db);
+    let shown = quote(&args.file.display().to_string());
+    if poor && !args.keep_poor_fit {
+        return Err(input(format!(
+            "{}; nothing written (--keep-poor-fit writes it anyway)",
+            poor_fit_message(&shown, fit.residual_db)
+        )));
+    }
+    let v = to_json(&fit, &source);
+    let text = serde_json::to_string_pretty(&v).expect("JSON values serialize") + "\n";
+    write_text(&args.output, &text, args.force)?;
+    if poor {
+        eprintln!(
+            "warning: {}; written anyway (--keep-poor-fit)",
+            poor_fit_message(&shown, fit.residual_db)
+        );
+    }
+    // Log-spectral distance between the recording's decay and the modes alone.
     let lsd = trundle_dsp::fit::log_spectral_distance_db(&samples[a..b], &model, fs);
     // What the voice plays: the loaded object struck by a unit impulse (sine-phase modes
     // and the band part), against the recording's decay.
@@ -137,6 +163,19 @@ pub fn run(args: &FitObjectArgs) -> Result<String, CliError> {
             "onset_s": fit.onset_s,
             "duration_s": fit.duration_s,
             "channels": channels,
+            "poor_fit": poor,
+            "bands": bands.iter().map(|b| json!({
+                "centre_hz": b.centre_hz,
+                "recording_db": b.recording_db,
+                "residual_db": b.residual_db,
+                "explained_db": b.explained_db,
+            })).collect::<Vec<_>>(),
+            "strongest_modes": strongest(&fit).iter().map(|m| json!({
+                "freq_hz": m.freq_hz,
+                "decay_s": m.decay_s,
+                "decay_sd_s": m.decay_sd_s,
+                "amplitude": m.amplitude,
+            })).collect::<Vec<_>>(),
         });
         return Ok(serde_json::to_string_pretty(&s).expect("JSON values serialize") + "\n");
     }
@@ -160,18 +199,42 @@ pub fn run(args: &FitObjectArgs) -> Result<String, CliError> {
         lsd,
         lsd_played
     );
-    let mut loud: Vec<_> = fit.modes.iter().collect();
-    loud.sort_by(|a, b| {
-        (b.amplitude * b.amplitude * b.decay_s).total_cmp(&(a.amplitude * a.amplitude * a.decay_s))
-    });
-    out.push_str("strongest modes (Hz, decay s, amplitude):\n");
-    for m in loud.iter().take(8) {
+    out.push_str(&band_table(&bands));
+    out.push_str("strongest modes (Hz, decay s ± standard uncertainty, amplitude):\n");
+    for m in strongest(&fit) {
         out.push_str(&format!(
-            "  {:9.2}  {:8.4}  {:.4}\n",
-            m.freq_hz, m.decay_s, m.amplitude
+            "  {:9.2}  {:8.4} ± {:<8.4}  {:.4}\n",
+            m.freq_hz, m.decay_s, m.decay_sd_s, m.amplitude
         ));
     }
     Ok(out)
+}
+
+/// The eight strongest modes (energy a²τ), strongest first.
+fn strongest(fit: &FittedObject) -> Vec<trundle_dsp::fit::FitMode> {
+    let mut loud = fit.modes.clone();
+    loud.sort_by(|a, b| {
+        (b.amplitude * b.amplitude * b.decay_s).total_cmp(&(a.amplitude * a.amplitude * a.decay_s))
+    });
+    loud.truncate(8);
+    loud
+}
+
+/// The band-by-band account: every band within 60 dB of the recording's strongest.
+fn band_table(bands: &[BandExplained]) -> String {
+    let top = bands
+        .iter()
+        .fold(f64::NEG_INFINITY, |a, b| a.max(b.recording_db));
+    let mut s = String::from(
+        "explained, third-octave band by band (dB re the recording's energy; explained = residual − recording):\n       Hz  recording  residual  explained\n",
+    );
+    for b in bands.iter().filter(|b| b.recording_db >= top - 60.0) {
+        s.push_str(&format!(
+            "  {:7.0}  {:9.1}  {:8.1}  {:9.1}\n",
+            b.centre_hz, b.recording_db, b.residual_db, b.explained_db
+        ));
+    }
+    s
 }
 
 #[cfg(test)]

@@ -159,6 +159,61 @@ fn recordings_that_are_not_one_decaying_strike_are_refused() {
     assert_eq!(o.status.code(), Some(2));
 }
 
+/// A decaying noise burst passes the strike checks (it decays) but no sum of modes explains
+/// it: the fit's residual is at or above 0 dB (measured +4.2 dB for this kind of burst), so
+/// `fit-object` refuses it (exit 2, nothing written) unless `--keep-poor-fit`, which writes
+/// it with a warning (exit 0). The summary accounts for the recording band by band.
+#[test]
+fn a_fit_that_explains_nothing_is_refused_unless_kept() {
+    let d = scratch("poor");
+    let fs = 48_000.0;
+    let mut s = 7u32;
+    // White-ish noise (a 32-bit LCG, uniform), decaying with τ = 20 ms after 10 ms of silence.
+    let burst: Vec<f64> = (0..24_000)
+        .map(|i| {
+            s = s.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            let t = (f64::from(i) - 480.0) / fs;
+            if t < 0.0 {
+                0.0
+            } else {
+                0.8 * (f64::from(s >> 8) / f64::from(1u32 << 24) - 0.5) * (-t / 0.02).exp()
+            }
+        })
+        .collect();
+    let wav = d.join("burst.wav");
+    write_wav(&wav, 48_000, 1, &burst);
+    let out = d.join("burst.object.json");
+    let args = [
+        "fit-object",
+        wav.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ];
+    let o = run(&args);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("explains nothing") && err.contains("--keep-poor-fit"),
+        "{err}"
+    );
+    assert!(!out.exists(), "nothing is written");
+    let o = run(&[&args[..], &["--keep-poor-fit", "--json"]].concat());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(
+        err.contains("warning:") && err.contains("explains nothing"),
+        "{err}"
+    );
+    assert!(out.is_file());
+    let summary: Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(summary["poor_fit"], true);
+    assert!(summary["residual_db"].as_f64().unwrap() >= 0.0);
+    // The band account covers the burst's spectrum: white noise fills every band up to
+    // 0.45·f_s, 20 Hz … 20 kHz.
+    let bands = summary["bands"].as_array().unwrap();
+    assert!(bands.len() >= 25, "{}", bands.len());
+}
+
 /// Independent resynthesis: Σ a·e^{−t/τ}·cos(2πft + φ) from the object file.
 fn resynthesize(v: &Value, fs: f64, len: usize) -> Vec<f64> {
     let mut y = vec![0.0; len];

@@ -215,6 +215,7 @@ fn a_roll_on_a_known_object_is_fitted_through_its_inverse() {
             // A negative gain (the ball on a negative lobe of the mode) is a phase of π.
             amplitude: m.gain.abs(),
             phase_rad: -std::f64::consts::FRAC_PI_2.copysign(m.gain),
+            decay_sd_s: 0.0,
         })
         .collect();
     let file = FittedObject {

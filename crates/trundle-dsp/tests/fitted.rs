@@ -38,6 +38,7 @@ fn truth(sample_rate_hz: f64) -> FittedObject {
         decay_s: tau,
         amplitude: a,
         phase_rad: phase,
+        decay_sd_s: 0.0,
     };
     FittedObject {
         sample_rate_hz,
@@ -218,6 +219,7 @@ fn quality_caps_the_explicit_modes_and_keeps_the_energy() {
             decay_s: 0.3 / (1.0 + k as f64 * 0.05),
             amplitude: 0.1 / (1.0 + k as f64 * 0.1),
             phase_rad: k as f64,
+            decay_sd_s: 0.0,
         })
         .filter(|m| m.freq_hz < 20_000.0)
         .collect();

@@ -192,6 +192,7 @@ fn strike_modes() -> Vec<FitMode> {
             decay_s: tau,
             amplitude: a,
             phase_rad: core::f64::consts::TAU * uniform(100 + k as u64) - core::f64::consts::PI,
+            decay_sd_s: 0.0,
         })
         .collect()
 }

@@ -23,3 +23,19 @@ pub fn hydrogen_kit_file(name: &str) -> PathBuf {
     );
     path
 }
+
+/// Debian's `fluid-soundfont-gm`: the FluidR3 General MIDI SoundFont.
+pub const FLUID_SF2: &str = "/usr/share/sounds/sf2/FluidR3_GM.sf2";
+
+/// The reason the strike-corpus tests give in their `#[ignore]`.
+pub const NEEDS_STRIKES: &str = "needs Debian's hydrogen-drumkits and fluid-soundfont-gm (apt-get install hydrogen-drumkits fluid-soundfont-gm)";
+
+/// [`FLUID_SF2`]; panics saying what to install when it is missing.
+pub fn fluid_soundfont() -> PathBuf {
+    let path = PathBuf::from(FLUID_SF2);
+    assert!(
+        path.is_file(),
+        "{FLUID_SF2} not found: this test {NEEDS_STRIKES}"
+    );
+    path
+}

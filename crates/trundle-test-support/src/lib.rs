@@ -14,7 +14,13 @@
 //! * [`cli`]: the `trundle` binary, run in a folder, and what it printed.
 //! * [`tree`]: the repository's own files (sources, doc pages) for the layout and docs tests.
 //! * [`data`]: data from outside the repository (the recordings of Debian's
-//!   hydrogen-drumkits), required by the tests marked `#[ignore = "needs …"]`.
+//!   hydrogen-drumkits, the GM SoundFont of fluid-soundfont-gm), required by the tests
+//!   marked `#[ignore = "needs …"]`.
+//! * [`soundfont`]: single samples out of a SoundFont 2 file.
+//! * [`strike_judge`]: is a resynthesized strike heard as its recording (issue #26's three
+//!   limits: mode frequencies, decays, third-octave spectrum).
+//! * [`strike_corpus`]: the real strikes the judge is run on, and the pipeline (fit,
+//!   impulse render, judge) and its table.
 
 #[cfg(feature = "alloc-guard")]
 pub mod alloc_guard;
@@ -24,6 +30,9 @@ pub mod data;
 pub mod levels;
 pub mod scene;
 pub mod scratch;
+pub mod soundfont;
 pub mod stats;
+pub mod strike_corpus;
+pub mod strike_judge;
 pub mod tree;
 pub mod wav;

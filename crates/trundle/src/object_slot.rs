@@ -237,11 +237,22 @@ impl ObjectSlot {
 
 /// Decode a recording (WAV, FLAC, OGG/Vorbis; any rate, mixed to mono: the decoder
 /// `trundle fit-object` uses, [`read_recording`]) and fit its modes
-/// ([`trundle_dsp::fit::fit_strike`]): the object file of `path`.
+/// ([`trundle_dsp::fit::fit_strike`]): the object file of `path`. A fit that explains
+/// nothing (residual at or above 0 dB, [`trundle_dsp::fit::explained`]) is refused.
 pub fn fit_recording(path: &Path) -> Result<ObjectFile, String> {
     let recording = read_recording(path).map_err(|e| e.to_string())?;
     let object = trundle_dsp::fit::fit_strike(&recording.samples, recording.sample_rate_hz)
         .map_err(|e| format!("{}: {e}", path.display()))?;
+    // A fit that explains nothing is refused as `trundle fit-object` refuses it.
+    if trundle_dsp::fit::explained::is_poor(object.residual_db) {
+        return Err(format!(
+            "{}; not loaded (`trundle fit-object --keep-poor-fit` writes it anyway)",
+            trundle_dsp::fit::explained::poor_fit_message(
+                &path.display().to_string(),
+                object.residual_db
+            )
+        ));
+    }
     let source = path
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
@@ -398,6 +409,24 @@ mod tests {
             e.contains("missing.ogg") && e.contains("cannot open"),
             "{e}"
         );
+        // A decaying noise burst (τ = 20 ms) is a strike no modes explain: refused as
+        // `trundle fit-object` refuses it, with the same message.
+        let mut s = 7u32;
+        let burst: Vec<f64> = (0..24_000)
+            .map(|i| {
+                s = s.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+                let t = (f64::from(i) - 480.0) / f64::from(fs);
+                if t < 0.0 {
+                    0.0
+                } else {
+                    0.8 * (f64::from(s >> 8) / f64::from(1u32 << 24) - 0.5) * (-t / 0.02).exp()
+                }
+            })
+            .collect();
+        let noise = dir.join("burst.wav");
+        write_wav(&noise, &[burst], fs).unwrap();
+        let e = fit_recording(&noise).unwrap_err();
+        assert!(e.contains("explains nothing"), "{e}");
         std::fs::remove_dir_all(&dir).ok();
     }
     /// A fitted object played from its phases (object file version 2), and the same one

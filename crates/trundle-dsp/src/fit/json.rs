@@ -8,7 +8,8 @@
 //!   "onset_s": 0.0102, "duration_s": 0.84, "peak": 0.71,
 //!   "residual_db": -23.4,
 //!   "modal_range_hz": [50, 20000],
-//!   "modes": [ { "freq_hz": 812.4, "decay_s": 0.093, "amplitude": 0.21, "phase_rad": -1.2 } ],
+//!   "modes": [ { "freq_hz": 812.4, "decay_s": 0.093, "amplitude": 0.21, "phase_rad": -1.2,
+//!                "decay_sd_s": 0.0012 } ],
 //!   "envelope": [ { "centre_hz": 1000, "level_db": -31.2, "decay_s": 0.012 } ]
 //! }
 //! ```
@@ -16,7 +17,8 @@
 //! * `trundle_object` is the format version; a newer one is refused (its meaning cannot be
 //!   guessed), as for presets ([`crate::scene::preset`]).
 //! * `modes`: aₖ·e^{−t/τₖ}·cos(2πfₖt + φₖ), t in seconds from the onset, amplitude in full
-//!   scale units of the recording.
+//!   scale units of the recording; `decay_sd_s` (optional, absent = 0: not stated) is the
+//!   standard uncertainty of τₖ ([`super::refine`]).
 //! * `envelope`: third-octave bands of what the modes leave unexplained (energy relative to
 //!   the recording's, 1/e decay time) — the full-band part ([`super::envelope`]).
 //! * `residual_db`: residual energy relative to the recording over `duration_s`.
@@ -38,6 +40,7 @@ mod tests {
                 decay_s: 0.093,
                 amplitude: 0.21,
                 phase_rad: -1.2,
+                decay_sd_s: 0.004,
             }],
             envelope: vec![EnvelopeBand {
                 centre_hz: 1000.0,

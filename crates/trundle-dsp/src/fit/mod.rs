@@ -4,8 +4,11 @@
 //! strike x[n] ─► checks (length, silence, clipping, decay, a second onset) ─► onset … end
 //!   ─► per band [lo, hi): heterodyne by f_c, Kaiser low-pass, decimate by D ≈ f_s/4B
 //!      ─► ESPRIT (Hankel, eigenvectors of YYᴴ, shift invariance; order from the
-//!         eigenvalue floor) ─► poles ─► least-squares complex amplitudes ─► modes in [lo, hi)
-//!   ─► modes (f, τ, amplitude, phase) ─► resynthesis ─► residual
+//!         eigenvalue floor) on the first 640 samples ─► poles
+//!      ─► the poles refined jointly over the whole ring (variable projection,
+//!         Levenberg–Marquardt; each decay's standard uncertainty) ─► least-squares
+//!         complex amplitudes ─► modes in [lo, hi)
+//!   ─► modes (f, τ ± sd, amplitude, phase) ─► resynthesis ─► residual
 //!   ─► the residual's third-octave envelope (level, decay): the full-band part
 //! ```
 //!
@@ -13,7 +16,9 @@
 //! (ESPRIT: Roy & Kailath 1989; matrix pencil: Hua & Sarkar 1990); splitting the band first
 //! keeps each eigenproblem small (L ≤ 160) whatever the sample rate and the number of modes
 //! (the approach of sub-band ESPRIT in Laroche 1993 and Badeau et al. 2006). See
-//! [`bands`] (band splitting) and [`subspace`] (ESPRIT and the order rule).
+//! [`bands`] (band splitting), [`subspace`] (ESPRIT and the order rule), [`refine`] (the
+//! decays over the whole ring, without the short window's bias, and their uncertainty)
+//! and [`explained`] (how much of the recording the fit explains, band by band).
 //!
 //! A mode k is the real damped sinusoid aₖ·e^{−t/τₖ}·cos(2πfₖt + φₖ), t from the start of
 //! the free decay (the strike's peak: the attack before it is the contact force, which
@@ -22,8 +27,10 @@
 pub mod bands;
 pub mod deconvolve;
 pub mod envelope;
+pub mod explained;
 #[cfg(feature = "presets")]
 pub mod json;
+pub mod refine;
 pub mod roll;
 pub mod subspace;
 
@@ -332,15 +339,69 @@ fn fit_band(sig: &[f64], fs: f64, band: bands::Band) -> Vec<FitMode> {
     let Some(bs) = bands::BandSignal::new(sig, fs, band, BAND_SAMPLES) else {
         return vec![];
     };
-    let Some(fit) = subspace::esprit(&bs.samples[bs.start..]) else {
+    let Some(mut fit) = subspace::esprit(&bs.samples[bs.start..]) else {
         return vec![];
     };
     let d = bs.decimation as f64;
     let fc = band.centre_hz();
     let start_s = (bs.start * bs.decimation) as f64 / fs;
+    // The poles of the band's own modes refined over the whole ring (the same band and
+    // decimation, up to `refine::REFINE_SAMPLES` samples, cut where the band has fallen
+    // 80 dB or to 3 dB over its noise floor); the others stay in the model as ESPRIT gave
+    // them. A refinement that moves a mode out of the band or by more than a quarter of
+    // ESPRIT's resolution is not the same mode, and one that makes a decay longer than 20
+    // times the span analysed is not measured: the band keeps ESPRIT's poles.
+    let mut alpha_sd = vec![0.0; fit.poles.len()];
+    let in_band = |z: &Complex<f64>| {
+        let f = fc + z.arg() / d * fs / TAU;
+        z.norm() > 0.0 && z.norm() < 1.0 && (band.lo_hz..band.hi_hz).contains(&f)
+    };
+    let all_decaying: Vec<Complex<f64>> = fit
+        .poles
+        .iter()
+        .copied()
+        .filter(|z| z.norm() > 0.0 && z.norm() < 1.0)
+        .collect();
+    let free: Vec<bool> = all_decaying.iter().map(in_band).collect();
+    if let Some(long) = bands::BandSignal::new(sig, fs, band, refine::REFINE_SAMPLES) {
+        let y = &long.samples[long.start..];
+        let power: Vec<f64> = y.iter().map(|v| v.norm_sqr()).collect();
+        let peak = power.iter().fold(0.0f64, |a, &v| a.max(v));
+        let mut tail: Vec<f64> = power[power.len() * 9 / 10..].to_vec();
+        tail.sort_by(f64::total_cmp);
+        let floor = tail.get(tail.len() / 2).copied().unwrap_or(0.0);
+        let ring = power
+            .iter()
+            .rposition(|&v| v > (peak * 1e-8).max(2.0 * floor))
+            .map_or(0, |i| i + 1)
+            .max(bs.samples.len() - bs.start);
+        let window = (bs.samples.len() - bs.start) as f64;
+        let span = ring.min(y.len());
+        if let Some(r) = refine::refine(&y[..span], &all_decaying, &free) {
+            let same = all_decaying
+                .iter()
+                .zip(&r.poles)
+                .zip(&free)
+                .all(|((a, b), &f)| {
+                    !f || (in_band(b)
+                        && (b.arg() - a.arg()).abs() < 0.25 * TAU / window
+                        && -b.norm().ln() * 20.0 * span as f64 >= 1.0)
+                });
+            if same {
+                let mut j = 0;
+                for (i, z) in fit.poles.iter_mut().enumerate() {
+                    if z.norm() > 0.0 && z.norm() < 1.0 {
+                        *z = r.poles[j];
+                        alpha_sd[i] = r.alpha_sd[j];
+                        j += 1;
+                    }
+                }
+            }
+        }
+    }
     // Full-rate baseband poles of the modes kept.
     let mut poles = Vec::new();
-    for zd in &fit.poles {
+    for (zd, &a_sd) in fit.poles.iter().zip(&alpha_sd) {
         let r = zd.norm();
         if !(r > 0.0 && r < 1.0) {
             continue;
@@ -359,7 +420,14 @@ fn fit_band(sig: &[f64], fs: f64, band: bands::Band) -> Vec<FitMode> {
         {
             continue;
         }
-        poles.push((freq_hz, decay_s, Complex::from_polar(r.powf(1.0 / d), w_bb)));
+        // τ = D/(f_s·α), α = −ln r: sd(τ) = τ·sd(α)/α.
+        let decay_sd_s = decay_s * a_sd / (-r.ln());
+        poles.push((
+            freq_hz,
+            decay_s,
+            decay_sd_s,
+            Complex::from_polar(r.powf(1.0 / d), w_bb),
+        ));
     }
     // All the band's poles (kept or not) explain the band signal jointly; least squares over
     // every decimated sample from t = 0, the filter's transient included (exact basis).
@@ -380,7 +448,7 @@ fn fit_band(sig: &[f64], fs: f64, band: bands::Band) -> Vec<FitMode> {
         return vec![];
     };
     let mut out = Vec::new();
-    for (freq_hz, decay_s, z) in poles {
+    for (freq_hz, decay_s, decay_sd_s, z) in poles {
         let Some(k) = all.iter().position(|&p| p == z) else {
             continue;
         };
@@ -394,6 +462,7 @@ fn fit_band(sig: &[f64], fs: f64, band: bands::Band) -> Vec<FitMode> {
             decay_s,
             amplitude: ck.norm(),
             phase_rad: ck.arg(),
+            decay_sd_s,
         });
     }
     out

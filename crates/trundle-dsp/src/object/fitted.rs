@@ -78,6 +78,9 @@ pub struct FitMode {
     pub amplitude: f64,
     /// Phase φₖ at t = 0 (rad).
     pub phase_rad: f64,
+    /// Standard uncertainty of τₖ (s) as the fit estimated it; 0 = not stated (files
+    /// written before it existed, modes set by hand).
+    pub decay_sd_s: f64,
 }
 
 /// One band of the residual's spectral envelope.

@@ -15,12 +15,19 @@ pub fn to_json(fit: &FittedObject, source: &str) -> Value {
         "peak": fit.peak,
         "residual_db": fit.residual_db,
         "modal_range_hz": [fit.modal_range_hz.0, fit.modal_range_hz.1],
-        "modes": fit.modes.iter().map(|m| json!({
-            "freq_hz": m.freq_hz,
-            "decay_s": m.decay_s,
-            "amplitude": m.amplitude,
-            "phase_rad": m.phase_rad,
-        })).collect::<Vec<_>>(),
+        "modes": fit.modes.iter().map(|m| {
+            let mut o = json!({
+                "freq_hz": m.freq_hz,
+                "decay_s": m.decay_s,
+                "amplitude": m.amplitude,
+                "phase_rad": m.phase_rad,
+            });
+            // Optional: written only when the fit stated it.
+            if m.decay_sd_s > 0.0 {
+                o["decay_sd_s"] = json!(m.decay_sd_s);
+            }
+            o
+        }).collect::<Vec<_>>(),
         "envelope": fit.envelope.iter().map(|b| json!({
             "centre_hz": b.centre_hz,
             "level_db": b.level_db,
@@ -74,10 +81,18 @@ pub fn from_json(v: &Value) -> Result<(FittedObject, String), String> {
             decay_s: num(m, "decay_s", &at)?,
             amplitude: num(m, "amplitude", &at)?,
             phase_rad: num(m, "phase_rad", &at)?,
+            decay_sd_s: match m.get("decay_sd_s") {
+                None => 0.0,
+                Some(_) => num(m, "decay_sd_s", &at)?,
+            },
         };
-        if mode.freq_hz <= 0.0 || mode.decay_s <= 0.0 || mode.amplitude < 0.0 {
+        if mode.freq_hz <= 0.0
+            || mode.decay_s <= 0.0
+            || mode.amplitude < 0.0
+            || mode.decay_sd_s < 0.0
+        {
             return Err(format!(
-                "mode {i}: frequency and decay must be positive, amplitude not negative"
+                "mode {i}: frequency and decay must be positive, amplitude and decay_sd_s not negative"
             ));
         }
         if mode.freq_hz >= 0.5 * sample_rate_hz {
