@@ -439,6 +439,7 @@ mod tests {
                 decay_s: 0.9 / (1.0 + 0.4 * f64::from(k)),
                 amplitude: 0.2 / (1.0 + 0.2 * f64::from(k)),
                 phase_rad: 2.1 * f64::from(k) - 2.9,
+                decay_sd_s: 0.0,
             })
             .collect();
         let mut file = some_object();
