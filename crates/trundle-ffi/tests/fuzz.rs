@@ -10,10 +10,10 @@ use core::ffi::c_char;
 use rand::rngs::SmallRng;
 use rand::{Rng, SeedableRng};
 use std::ffi::{CStr, CString};
-use trundle::status::TrundleStatus as S;
-use trundle::voice::*;
-use trundle::{params::*, trundle_version};
 use trundle_dsp::params::PARAMS;
+use trundle_ffi::status::TrundleStatus as S;
+use trundle_ffi::voice::*;
+use trundle_ffi::{params::*, trundle_version};
 
 /// Calls per seed; with the seeds below, tens of thousands in all.
 const CALLS: usize = 4000;
@@ -37,7 +37,7 @@ fn value(rng: &mut SmallRng, min: f64, max: f64) -> f64 {
 }
 
 fn last_error() -> String {
-    let p = trundle::status::trundle_last_error();
+    let p = trundle_ffi::status::trundle_last_error();
     assert!(!p.is_null(), "the last error is never null");
     // SAFETY: the library returns a NUL-terminated string valid until the next call.
     unsafe { CStr::from_ptr(p) }

@@ -7,10 +7,10 @@
 
 use rand::rngs::SmallRng;
 use rand::{Rng, SeedableRng};
-use trundle::scene::*;
-use trundle::status::TrundleStatus as S;
-use trundle::stream::*;
 use trundle_dsp::params::PARAMS;
+use trundle_ffi::scene::*;
+use trundle_ffi::status::TrundleStatus as S;
+use trundle_ffi::stream::*;
 
 const CALLS: usize = 2500;
 
@@ -18,7 +18,7 @@ const CALLS: usize = 2500;
 fn expect(got: S, want: S, ctx: &str) {
     let msg = || {
         // SAFETY: the library returns a NUL-terminated string valid until the next call.
-        unsafe { core::ffi::CStr::from_ptr(trundle::status::trundle_last_error()) }
+        unsafe { core::ffi::CStr::from_ptr(trundle_ffi::status::trundle_last_error()) }
             .to_string_lossy()
             .into_owned()
     };
@@ -256,7 +256,7 @@ fn run(seed: u64) {
                         &ctx,
                     );
                     expect(
-                        trundle::voice::trundle_voice_reset(st.cast()),
+                        trundle_ffi::voice::trundle_voice_reset(st.cast()),
                         S::BadHandle,
                         &ctx,
                     );

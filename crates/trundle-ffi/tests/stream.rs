@@ -10,9 +10,9 @@
 //! * A handle of one kind is refused by another kind's calls.
 //! * A scene renders the same samples split, interleaved, or cut into odd blocks.
 
-use trundle::scene::*;
-use trundle::status::TrundleStatus as S;
-use trundle::stream::*;
+use trundle_ffi::scene::*;
+use trundle_ffi::status::TrundleStatus as S;
+use trundle_ffi::stream::*;
 
 const FRAME: usize = 800; // one 60 Hz frame at 48 kHz
 
@@ -193,7 +193,8 @@ fn handles_of_another_kind_are_refused() {
         assert_eq!(s, S::BadHandle);
         let s = trundle_scene_render(st.cast(), l.as_mut_ptr(), r.as_mut_ptr(), 64);
         assert_eq!(s, S::BadHandle);
-        let s = trundle::voice::trundle_voice_render(sc.cast(), l.as_mut_ptr(), r.as_mut_ptr(), 64);
+        let s =
+            trundle_ffi::voice::trundle_voice_render(sc.cast(), l.as_mut_ptr(), r.as_mut_ptr(), 64);
         assert_eq!(s, S::BadHandle);
     }
     assert_eq!(trundle_scene_destroy(st.cast()), S::BadHandle);
