@@ -160,16 +160,11 @@ fn narrow_envelope(x: &[f64], fs: f64, freq_hz: f64, len: usize) -> Vec<(f64, f6
 
 /// T60 (s) of the least-squares line through 10·log10(e) over frames `range`.
 fn t60(env: &[(f64, f64)], range: core::ops::Range<usize>) -> f64 {
-    let pts: Vec<(f64, f64)> = env[range]
+    let (t, db): (Vec<f64>, Vec<f64>) = env[range]
         .iter()
         .map(|&(t, e)| (t, 10.0 * e.max(1e-300).log10()))
-        .collect();
-    let n = pts.len() as f64;
-    let mt = pts.iter().map(|p| p.0).sum::<f64>() / n;
-    let md = pts.iter().map(|p| p.1).sum::<f64>() / n;
-    let stt: f64 = pts.iter().map(|p| (p.0 - mt).powi(2)).sum();
-    let std: f64 = pts.iter().map(|p| (p.0 - mt) * (p.1 - md)).sum();
-    let slope = std / stt.max(1e-300);
+        .unzip();
+    let (slope, _) = crate::stats::fit_line(&t, &db);
     if slope < 0.0 {
         (-60.0 / slope).min(1e4)
     } else {
