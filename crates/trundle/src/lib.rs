@@ -30,8 +30,9 @@
 //!   `activate`; `process` never allocates (nice-plug's `assert_process_allocs` is on in debug builds), locks or
 //!   logs.
 //! * **Transport**: with `run = with transport` (default) the ball rolls while the host plays;
-//!   on stop its velocity glides to 0 (the pulses fade, no click) and the object rings out
-//!   naturally into exact silence. A host that sends no transport at all (a free-running
+//!   on stop the ball rolls to rest by the scene's stop law (`trundle_dsp::scene::stop`,
+//!   as a released note ball does: 0.27 s from V = 0.5, its impacts softening) and the
+//!   object rings out naturally into exact silence. A host that sends no transport at all (a free-running
 //!   host, a live rig) is treated as playing, so the plugin is never mute for lack of a
 //!   play button. Once stopped and silent for 0.25 s the voice is not run at all.
 //! * **Determinism**: `reset` (the host's reset, or start-processing) and every transport
@@ -56,6 +57,7 @@ use nice_plug::prelude::*;
 use std::sync::Arc;
 use trundle_dsp::scene::events::{process_stereo_with_events, TimedEvent};
 use trundle_dsp::scene::limiter::{Limiter, Limiting};
+use trundle_dsp::scene::stop::slow_down;
 use trundle_dsp::{ParamId, Voice};
 
 pub mod compare;
@@ -109,6 +111,8 @@ pub struct Trundle {
     bypass_gain: f32,
     silent_samples: usize,
     rolling: bool,
+    /// The ball's speed (V) while it rolls to rest after a transport stop.
+    stop_speed: f64,
     /// The [`object_slot::ObjectSlot`] generation the voice plays.
     object_generation: u64,
 }
@@ -129,6 +133,7 @@ impl Default for Trundle {
             bypass_gain: 1.0,
             silent_samples: usize::MAX / 2,
             rolling: false,
+            stop_speed: 0.0,
             object_generation: u64::MAX,
         }
     }
@@ -246,6 +251,7 @@ impl Plugin for Trundle {
         }
         self.silent_samples = usize::MAX / 2;
         self.rolling = false;
+        self.stop_speed = 0.0;
         self.bypass_gain = if self.params.bypass.value() { 0.0 } else { 1.0 };
     }
 
@@ -277,7 +283,15 @@ impl Plugin for Trundle {
             self.params.run.value() == 1 || transport.playing || !host_has_transport(transport);
         self.params.to_dsp(&mut self.dsp);
         if !rolling {
-            self.dsp.set_clamped(ParamId::Velocity, 0.0);
+            // The ball rolls to rest by the scene's stop law (`scene::stop`, as a note ball
+            // does), from its speed when the transport stopped, one block at a time.
+            let from = if self.rolling {
+                self.dsp.velocity()
+            } else {
+                self.stop_speed
+            };
+            self.stop_speed = slow_down(from, n as f64 / f64::from(self.sample_rate));
+            self.dsp.set_clamped(ParamId::Velocity, self.stop_speed);
         }
         let silence = (RESET_AFTER_SILENCE_S * self.sample_rate) as usize;
         let was_silent = self.silent_samples >= silence;

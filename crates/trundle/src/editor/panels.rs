@@ -125,7 +125,7 @@ impl TrundleEditor {
             &self.params.run,
             setter,
             false,
-            "Roll while the host's transport plays (the ball glides to rest on stop), or always",
+            "Roll while the host's transport plays (the ball rolls to rest on stop), or always",
             t,
         );
 
