@@ -170,6 +170,44 @@ fn seams_click_at_speed_over_spacing() {
     }
 }
 
+/// A seam at the default depth is a knock a listener hears over the roll: the 10 ms after it
+/// peak at least twice as high as the roll's median 10 ms window (in the object's sound).
+#[test]
+fn seams_at_the_default_depth_stand_out() {
+    let plain = Params::default();
+    let mut joints = plain;
+    joints.set(ParamId::JointSpacingCm, 30.0).unwrap();
+    let (a, roll_log) = render(&plain, 4.0);
+    let (b, log) = render(&joints, 4.0);
+    let w = (0.01 * FS) as usize;
+    let peak = |x: &[f32]| x.iter().fold(0f32, |m, v| m.max(v.abs()));
+    let median = |mut v: Vec<f32>| {
+        v.sort_by(f32::total_cmp);
+        v[v.len() / 2]
+    };
+    // The 10 ms after each seam's impact (the impacts the plain roll does not have).
+    let seams: Vec<f32> = log
+        .iter()
+        .filter(|r| !roll_log.iter().any(|q| q == *r))
+        .map(|r| (r.time_s * FS) as usize)
+        .filter(|&i| i + w <= b.len())
+        .map(|i| peak(&b[i..i + w]))
+        .collect();
+    let roll = median(
+        (0..a.len() / w)
+            .map(|i| peak(&a[i * w..(i + 1) * w]))
+            .collect(),
+    );
+    let n = seams.len();
+    let seam = median(seams);
+    println!(
+        "{n} seams: median peak {:.2}x the roll's median 10 ms peak",
+        seam / roll
+    );
+    assert!(n >= 4);
+    assert!(seam > 2.0 * roll, "seams {:.2}x the roll", seam / roll);
+}
+
 /// The spin's contact rate rises monotonically (mean rate in 0.5 s windows), from Ω₀ to
 /// several times Ω₀, and the disk is still after `spin_time_s`.
 #[test]
