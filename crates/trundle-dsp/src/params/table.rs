@@ -583,4 +583,48 @@ schema! {
         group: None,
         doc: "Speed/accuracy: how many of the crowd's loudest balls run a whole source (own series, AM, low-pass); the others are merged into one Poisson impact process of their summed rate, which costs per impact, not per ball",
     },
+    /// The contact's high band: micro-roughness below the pulse scale ([`crate::source::micro`]).
+    Micro {
+        key: "micro",
+        name: "Micro-roughness",
+        unit: "",
+        values: percent(0.0, 1.0),
+        default: 0.0,
+        place: at(Panel::Motion, Section::Surface, "Micro"),
+        group: None,
+        doc: "The contact's high band: surface texture below the pulse scale and sliding-friction noise, a noise force while the surfaces touch whose level grows with speed and roughness and whose band reaches speed / 45 um (brighter when faster); 0 = none (docs/MODEL.md, High band and crackle)",
+    },
+    /// Spectral tilt of the micro-roughness noise.
+    MicroTone {
+        key: "micro_tone",
+        name: "Micro tone",
+        unit: "",
+        values: float(-1.0, 1.0),
+        default: 0.0,
+        place: at(Panel::Motion, Section::Surface, "Micro tone"),
+        group: None,
+        doc: "Tilt of the micro-roughness band around 4 kHz: -1 = 6 dB darker below and 6 dB quieter above, +1 = the opposite (brighter); 0 = flat",
+    },
+    /// A sparse loud layer of clicks over the contact's floor ([`crate::source::crackle`]).
+    Crackle {
+        key: "crackle",
+        name: "Crackle",
+        unit: "",
+        values: percent(0.0, 1.0),
+        default: 0.0,
+        place: at(Panel::Motion, Section::Surface, "Crackle"),
+        group: None,
+        doc: "A sparse loud layer over the dense contact: Poisson clicks (stick-slip pops, grit bursts, stylus crackle) at up to 60 per second (rate grows with crackle and speed) with heavy-tailed (Pareto) strengths, each a short broadband contact pulse; 0 = none",
+    },
+    /// How loud the crackle's clicks are above the contact's floor.
+    CrackleLevel {
+        key: "crackle_level",
+        name: "Crackle level",
+        unit: "",
+        values: percent(0.0, 1.0),
+        default: 0.5,
+        place: at(Panel::Motion, Section::Surface, "Crackle level"),
+        group: None,
+        doc: "How loud the crackle's clicks are over the contact's own force: the typical click peaks 6 dB (at 0) to 42 dB (at 1) above the force's running RMS",
+    },
 }

@@ -44,7 +44,9 @@ use crate::scene::space::{Space, SpaceControls};
 use crate::scene::twins::Twins;
 use crate::smooth::Smoother;
 use crate::source::chain::{ImpactRecord, Source, SourceControls};
+use crate::source::crackle::Crackle;
 use crate::source::dcblock::DcBlock;
+use crate::source::micro::Micro;
 use crate::stage::Stage;
 use std::sync::Arc;
 
@@ -105,6 +107,10 @@ stages! {
     engines: EngineMix = |fs, p, _| EngineMix::new(fs, p),
     /// The gesture: drop, spin, seams, paths with gravity ([`crate::scene::gesture`]).
     gesture: Gesture = |fs, p, seed| Gesture::new(fs, GestureControls::from_params(p), seed),
+    /// The sparse loud layer over the contact ([`crate::source::crackle`]).
+    crackle: Crackle = |fs, p, seed| Crackle::new(fs, p, seed),
+    /// The contact's high band ([`crate::source::micro`]).
+    micro: Micro = |fs, p, seed| Micro::new(fs, p, seed),
     /// The ball's place on the object and the position comb ([`crate::scene::space`]).
     space: Space = |fs, p, _| Space::new(fs, SpaceControls::from_params(p)),
     /// Extra balls started like notes ([`crate::scene::balls`]).
@@ -155,6 +161,9 @@ pub struct Voice {
     sound: [f32; CHUNK],
     side: [f32; CHUNK],
     coupled: [f32; CHUNK],
+    /// The micro force's directly radiated share (valid when `micro_on`).
+    direct: [f32; CHUNK],
+    micro_on: bool,
     /// The level law's gain on the summed force ([`crate::scene::balls::level_for_balls`]).
     ball_level: Smoother,
     /// The last chunk's force and DC-blocked force were exactly zero (the DC blocker's
@@ -190,6 +199,8 @@ impl Voice {
             sound: [0.0; CHUNK],
             side: [0.0; CHUNK],
             coupled: [0.0; CHUNK],
+            direct: [0.0; CHUNK],
+            micro_on: false,
             ball_level: Smoother::new(1.0),
             quiet: false,
         };
@@ -228,6 +239,13 @@ impl Voice {
     pub fn set_high_band(&mut self, on: bool) {
         self.chain.object.set_high_band(on);
         self.chain.twins.set_high_band(on);
+    }
+
+    /// Switch the micro-roughness's directly radiated share on (the default) or off
+    /// ([`crate::source::micro`]): for measuring what the object's modes alone make of it.
+    /// Real-time safe.
+    pub fn set_micro_direct(&mut self, on: bool) {
+        self.chain.micro.set_direct(on);
     }
 
     /// Switch the physics engine's level match to the signal model on (the default) or off
@@ -522,6 +540,14 @@ impl Voice {
         // The gesture's impacts join the rolling force before the position stage.
         let size = self.params.size();
         Stage::process(&mut c.gesture, (&mut self.force, &c.source, size, speed));
+        // The contact's textures (off: not called, the samples are those without them).
+        if !c.crackle.is_off() {
+            Stage::process(&mut c.crackle, (&mut self.force, speed));
+        }
+        self.micro_on = !c.micro.is_off();
+        if self.micro_on {
+            Stage::process(&mut c.micro, (&mut self.force, &mut self.direct, speed));
+        }
         Stage::process(&mut c.space, &mut self.force);
         Stage::process(&mut c.balls, (&mut self.force, &self.params));
         let rolling_factor = (!c.gesture.is_neutral()).then(|| c.gesture.rolling_factor());
@@ -565,6 +591,11 @@ impl Voice {
             &mut c.object,
             (&self.coupled, &mut self.sound, &mut self.side),
         );
+        if self.micro_on {
+            for (s, d) in self.sound.iter_mut().zip(&self.direct) {
+                *s += d;
+            }
+        }
         // The level match (`engine_mix`): both engines' forces through the twins.
         let ball = c.space.ball();
         Stage::process(&mut c.twins, (&mut c.engines, ball));

@@ -13,13 +13,17 @@
 //! | [`lowpass`] | the velocity low-pass and loudness law |
 //! | [`contact`] | the ball's and the object's materials: Hertz contact scale |
 //! | [`dcblock`] | the DC blocker on the force |
+//! | [`crackle`] | crackle: a sparse loud layer of Poisson pops with Pareto strengths over the contact's floor |
+//! | [`micro`] | micro-roughness: the contact's high band, a speed-dependent noise force while in contact |
 
 pub mod action;
 pub mod chain;
 pub mod contact;
+pub mod crackle;
 pub mod dcblock;
 pub mod density;
 pub mod lowpass;
+pub mod micro;
 pub mod modulation;
 pub mod prototype;
 pub mod pulse;

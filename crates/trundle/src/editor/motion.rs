@@ -155,6 +155,8 @@ fn acts(id: ParamId, p: &Params) -> bool {
         ParamId::JointDepth => p.get(ParamId::JointSpacingCm) > 0.0,
         ParamId::PathTimeS => p.trajectory().has_gravity(),
         ParamId::CrowdSpread | ParamId::CrowdDetail => p.get(ParamId::Crowd) > 1.0,
+        ParamId::MicroTone => p.get(ParamId::Micro) > 0.0,
+        ParamId::CrackleLevel => p.get(ParamId::Crackle) > 0.0,
         _ => true,
     }
 }
@@ -170,7 +172,7 @@ mod tests {
         let titles: Vec<&str> = sections.iter().map(|(s, _)| s.title()).collect();
         assert_eq!(titles, ["Gesture", "Surface", "Crowd", "Quality"]);
         let rows: usize = sections.iter().map(|(_, ids)| ids.len()).sum();
-        assert_eq!(rows, 13);
+        assert_eq!(rows, 17);
         // Each section opens with at most one selector and has a control.
         for (s, ids) in &sections {
             assert!(!ids.is_empty(), "{s:?}");
