@@ -25,6 +25,7 @@
 //! Trundle's action model supplies).
 
 pub mod bands;
+pub mod cmaes;
 pub mod deconvolve;
 pub mod envelope;
 pub mod explained;
