@@ -118,8 +118,8 @@ pub fn run(args: &FitObjectArgs) -> Result<String, CliError> {
     }
     // Log-spectral distance between the recording's decay and the modes alone.
     let lsd = trundle_dsp::fit::log_spectral_distance_db(&samples[a..b], &model, fs);
-    // What the voice plays: the loaded object struck by a unit impulse (sine-phase modes
-    // and the band part), against the recording's decay.
+    // What the voice plays: the loaded object struck by a unit impulse (the modes from
+    // their fitted phases and the band part), against the recording's decay.
     let loaded = LoadedObject::new(ObjectFile {
         object: fit.clone(),
         source: source.clone(),
@@ -182,7 +182,7 @@ pub fn run(args: &FitObjectArgs) -> Result<String, CliError> {
     let mut out = format!(
         "{}: {} modes ({:.0}–{:.0} Hz) over {:.3} s from {:.3} s at {} Hz{}\n\
          the modes explain the recording to {:.1} dB (residual energy), log-spectral distance {:.1} dB\n\
-         as played (render --object … --impulse: sine-phase modes and the band part): log-spectral distance {:.1} dB\n",
+         as played (render --object … --impulse: phased modes and the band part): log-spectral distance {:.1} dB\n",
         args.output.display(),
         fit.modes.len(),
         fit.modal_range_hz.0,
