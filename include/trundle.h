@@ -775,3 +775,7 @@ enum TrundleStatus trundle_voice_render_interleaved(struct TrundleVoice *voice, 
 #define TRUNDLE_PARAM_CROWD 37 /* Crowd, 1 to 1000 */
 #define TRUNDLE_PARAM_CROWD_SPREAD 38 /* Crowd spread, 0 to 1 */
 #define TRUNDLE_PARAM_CROWD_DETAIL 39 /* Crowd detail, 0 to 16 */
+#define TRUNDLE_PARAM_MICRO 40 /* Micro-roughness, 0 to 1 */
+#define TRUNDLE_PARAM_MICRO_TONE 41 /* Micro tone, -1 to 1 */
+#define TRUNDLE_PARAM_CRACKLE 42 /* Crackle, 0 to 1 */
+#define TRUNDLE_PARAM_CRACKLE_LEVEL 43 /* Crackle level, 0 to 1 */

@@ -24,7 +24,9 @@
 //!   (V in m/s), i.e. at the rate V/spacing.
 //! * **grit** — loose grains on the surface: a Poisson process along the path,
 //!   [`GRIT_PER_M`]·grit grains per metre (rate ∝ grit·V), each an impact of random strength
-//!   (mean [`GRIT_GAIN`]·V) crossed like a seam.
+//!   (mean [`GRIT_GAIN`]·V) crossed like a seam, with the rolling pulse law in every action
+//!   ([`PulseScale::grain`]): a rub's own pulses are one tiny impact per sample, and a grain
+//!   shaped like them vanished in its dense force (kurtosis 3.64 → 3.63 at grit 0.8).
 //! * **paths with gravity** — the trajectory's speed profile
 //!   ([`crate::scene::space::Trajectory::speed_factor`]) scales the rolling speed: the sound and
 //!   the position stage follow the same speed.
@@ -86,6 +88,10 @@ pub const JOINT_GAIN: f64 = 5.0;
 pub const GRIT_PER_M: f64 = 400.0;
 /// Series-amplitude equivalent of a grain crossed at 1 m/s (mean).
 pub const GRIT_GAIN: f64 = 0.5;
+
+/// A grain under a sliding contact is struck, not ridden over: this many times a rolled
+/// grain's strength (so grit lifts a rub's kurtosis, `tests/textures_fast.rs`).
+pub const FRICTION_GRAIN_GAIN: f64 = 3.0;
 
 /// Capacity of the gesture's impact record (drained with the engine's, see
 /// [`crate::scene::voice::Voice::drain_impacts`]).
@@ -169,6 +175,9 @@ pub struct PulseScale {
     pub theta: f64,
     /// Peak per unit of series amplitude (pulse gain × level gain × size gain / c).
     pub gain: f64,
+    /// A grain of grit's (ζ·c, θ, peak per unit amplitude): the rolling pulse law in every
+    /// action (exactly the fields above at the roll anchor).
+    pub grain: (f64, f64, f64),
 }
 
 /// The pulse law of `source` for a ball of size `size` (its action, contact and level in
@@ -176,10 +185,22 @@ pub struct PulseScale {
 pub fn pulse_scale(source: &Source, size: f64) -> PulseScale {
     let ap = source.action();
     let c = source.contact_scale();
+    let gain = ap.pulse_gain * ap.level_gain * crate::source::lowpass::size_gain(size) / c;
+    let grain = if ap.weights[2] == 1.0 {
+        (ap.zeta_s * c, ap.theta, gain)
+    } else {
+        (
+            crate::source::pulse::rolling_zeta_s(size) * c,
+            crate::source::pulse::T0_EXPONENT,
+            ap.level_gain * crate::source::lowpass::size_gain(size) / c
+                * (ap.weights[2] + FRICTION_GRAIN_GAIN * (1.0 - ap.weights[2])),
+        )
+    };
     PulseScale {
         zeta_s: ap.zeta_s * c,
         theta: ap.theta,
-        gain: ap.pulse_gain * ap.level_gain * crate::source::lowpass::size_gain(size) / c,
+        gain,
+        grain,
     }
 }
 
@@ -573,6 +594,13 @@ impl Gesture {
             let (v0, v1) = (speed.0.max(0.0), speed.1.max(0.0));
             let dist = 0.5 * (v0 + v1) * n as f64 / fs;
             let density = GRIT_PER_M * self.c.grit;
+            let (zeta_s, theta, gain) = k.grain;
+            let grain = PulseScale {
+                zeta_s,
+                theta,
+                gain,
+                grain: k.grain,
+            };
             // grit_left is in units of the mean grain spacing.
             let mut covered = 0.0;
             while dist > 0.0 && covered + self.grit_left / density <= dist {
@@ -582,7 +610,7 @@ impl Gesture {
                 let v = v0 + (v1 - v0) * s / n as f64;
                 let a = GRIT_GAIN * v * (0.2 + 1.6 * self.next_random());
                 if a > 0.0 {
-                    self.pulse(s + lead, a, &k);
+                    self.pulse(s + lead, a, &grain);
                 }
             }
             self.grit_left -= (dist - covered) * density;
