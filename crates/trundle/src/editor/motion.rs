@@ -3,10 +3,10 @@
 //! section of the rows placed on [`Panel::Motion`], laid out from the rows' places.
 //!
 //! ```text
-//! ├ GESTURE ─────────────────────────┬ SURFACE ──────────────┬ CROWD ─────────┬ QUALITY ┤
-//! │ roll │ height bounce roll   spin │ seams depth path grit │ balls spread   │ draft    │
-//! │ drop │                           │                       │ detail         │ normal   │
-//! │ spin │                           │                       │                │ high …   │
+//! ├ GESTURE ────────────────────────────────────────────────┬ SURFACE ────────────────────────────┬ CROWD ───────┬ QUALITY ┤
+//! │ roll │ height bounce roll spin strokes rate shape wander │ seams depth path grit bumps bump rate │ balls spread │ draft    │
+//! │ drop │                                                   │                                     │ detail       │ normal   │
+//! │ spin │                                                   │                                     │              │ high …   │
 //! ```
 //!
 //! A section's selectors stand in a column on its left, its knobs follow in table order,
@@ -155,6 +155,8 @@ fn acts(id: ParamId, p: &Params) -> bool {
         ParamId::JointDepth => p.get(ParamId::JointSpacingCm) > 0.0,
         ParamId::PathTimeS => p.trajectory().has_gravity(),
         ParamId::CrowdSpread | ParamId::CrowdDetail => p.get(ParamId::Crowd) > 1.0,
+        ParamId::BumpRateHz => p.get(ParamId::Bumpiness) > 0.0,
+        ParamId::StrokeRateHz | ParamId::StrokeShape => p.get(ParamId::Strokes) > 0.0,
         _ => true,
     }
 }
@@ -170,7 +172,7 @@ mod tests {
         let titles: Vec<&str> = sections.iter().map(|(s, _)| s.title()).collect();
         assert_eq!(titles, ["Gesture", "Surface", "Crowd", "Quality"]);
         let rows: usize = sections.iter().map(|(_, ids)| ids.len()).sum();
-        assert_eq!(rows, 13);
+        assert_eq!(rows, 19);
         // Each section opens with at most one selector and has a control.
         for (s, ids) in &sections {
             assert!(!ids.is_empty(), "{s:?}");
