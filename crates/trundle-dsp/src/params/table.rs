@@ -626,5 +626,71 @@ schema! {
         place: at(Panel::Motion, Section::Surface, "Crackle level"),
         group: None,
         doc: "How loud the crackle's clicks are over the contact's own force: the typical click peaks 6 dB (at 0) to 42 dB (at 1) above the force's running RMS",
+    /// Slow broadband events on the surface: stones, flat spots, uneven boards
+    /// ([`crate::scene::bumps`]).
+    Bumpiness {
+        key: "bumpiness",
+        name: "Bumpiness",
+        unit: "",
+        values: percent(0.0, 1.0),
+        default: 0.0,
+        place: at(Panel::Motion, Section::Surface, "Bumps"),
+        group: None,
+        doc: "Slow broadband events (stones, flat spots, uneven boards): bumps at about bump_rate_hz, each a knock (a strong impact, Hertz strength ~ V^1.2) and a ~0.1 s swell of the contact force, so every band's envelope moves together (docs/MODEL.md, Slow textures); 0 = a smooth surface",
+    },
+    /// Mean rate of the bumps (Hz).
+    BumpRateHz {
+        key: "bump_rate_hz",
+        name: "Bump rate",
+        unit: "Hz",
+        values: log(0.25, 8.0),
+        default: 1.5,
+        place: at(Panel::Motion, Section::Surface, "Bump rate"),
+        group: None,
+        doc: "Mean rate of the bumps; their intervals are random (gamma of shape 2: irregular, but rarely two at once)",
+    },
+    /// Depth of the back-and-forth strokes ([`crate::scene::hand`]).
+    Strokes {
+        key: "strokes",
+        name: "Strokes",
+        unit: "",
+        values: percent(0.0, 1.0),
+        default: 0.0,
+        place: at(Panel::Motion, Section::Gesture, "Strokes"),
+        group: None,
+        doc: "Back-and-forth gestures (sawing, scrubbing, sanding): the speed follows |stroke velocity| (V at the stroke's middle, through zero at each turn-around at depth 1) and the contact force swells with it, so every band swells together at stroke_rate_hz; each stroke's length and peak jitter a little (a hand, not a metronome); 0 = a steady push",
+    },
+    /// Strokes per second (each one way).
+    StrokeRateHz {
+        key: "stroke_rate_hz",
+        name: "Stroke rate",
+        unit: "Hz",
+        values: log(0.3, 8.0),
+        default: 2.0,
+        place: at(Panel::Motion, Section::Gesture, "Stroke rate"),
+        group: None,
+        doc: "Strokes per second, each one way (a back-and-forth cycle is two strokes): the band envelopes swell at this rate",
+    },
+    /// Shape of a stroke: smooth sine to hard push with a quick turn-around.
+    StrokeShape {
+        key: "stroke_shape",
+        name: "Stroke shape",
+        unit: "",
+        values: percent(0.0, 1.0),
+        default: 0.5,
+        place: at(Panel::Motion, Section::Gesture, "Shape"),
+        group: None,
+        doc: "How a stroke moves: 0 = a smooth sine back-and-forth (speed |sin|), 1 = a hard push held through the stroke with a quick turn-around (full speed from 6 % of the stroke to 94 %)",
+    },
+    /// Slow random wander of the hand's speed and pressure ([`crate::scene::hand`]).
+    Wander {
+        key: "wander",
+        name: "Hand wander",
+        unit: "",
+        values: percent(0.0, 1.0),
+        default: 0.0,
+        place: at(Panel::Motion, Section::Gesture, "Wander"),
+        group: None,
+        doc: "A hand, not a machine: speed and pressure wander at random, 1/f-like (octave-spaced random walks 0.125-8 Hz); at 1 the speed swings about x1.6 up and x1/1.6 down (one standard deviation), the pressure x1.4; 0 = a steady hand",
     },
 }

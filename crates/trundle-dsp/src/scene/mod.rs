@@ -8,6 +8,8 @@
 //! | [`balls`] | note balls on the shared object |
 //! | [`crowd`] | many balls as one statistical source |
 //! | [`gesture`] | drops, bounces, spins: gestures that drive the ball |
+//! | [`hand`] | a hand, not a machine: strokes and a slow wander of speed and pressure |
+//! | [`bumps`] | slow broadband events: stones, flat spots (knocks and swells) |
 //! | [`stop`] | how a ball told to stop comes to rest (the one stop law) |
 //! | [`space`] | the ball's path and the room around the object |
 //! | [`engine_mix`] | the engine choice, the physics controls' smoothing, the crossfade |
@@ -18,10 +20,12 @@
 //! | `preset` (feature `presets`) | preset files |
 
 pub mod balls;
+pub mod bumps;
 pub mod crowd;
 pub mod engine_mix;
 pub mod events;
 pub mod gesture;
+pub mod hand;
 pub mod impulse;
 pub mod limiter;
 #[cfg(feature = "presets")]

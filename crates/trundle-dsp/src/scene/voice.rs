@@ -4,9 +4,9 @@
 //! ```text
 //! Params ──► every stage's set_params (stage::Stage)
 //!
-//! source ─► engines ─► gesture ─► space ─► + balls ─► + crowd ─► × level law ─► force
-//! (signal   (or the     (drops,   (position  (notes)   (N balls)   (1/√N)
-//!  model)    physics,    spins)    comb)
+//! source ─► engines ─► gesture ─► space ─► + balls ─► + crowd ─► × hand ─► bumps ─► × level law ─► force
+//! (signal   (or the     (drops,   (position  (notes)   (N balls)  (strokes, (knocks,   (1/√N)
+//!  model)    physics,    spins)    comb)                           wander)   swells)
 //!            crossfade)
 //! force ─► dc ─► object (modal bank) ─► mid, side ─► × gain ─► out      (output = force: the force)
 //!                twins: the object again, for the physics engine's level match
@@ -37,9 +37,11 @@ use crate::object::resonator::{Object, ObjectControls};
 use crate::params::{ParamId, Params};
 use crate::physics::PhysicsEngine;
 use crate::scene::balls::{level_for_balls, BallId, BallPool, BallTarget, Expression};
+use crate::scene::bumps::{BumpControls, Bumps};
 use crate::scene::crowd::{scene_controls, Crowd, CrowdControls, MAX_DETAIL};
 use crate::scene::engine_mix::EngineMix;
 use crate::scene::gesture::{Gesture, GestureControls};
+use crate::scene::hand::{Hand, HandControls};
 use crate::scene::space::{Space, SpaceControls};
 use crate::scene::twins::Twins;
 use crate::smooth::Smoother;
@@ -125,6 +127,10 @@ stages! {
         c.set_controls(CrowdControls::from_params(p));
         c
     },
+    /// The hand: strokes and wander of speed and pressure ([`crate::scene::hand`]).
+    hand: Hand = |fs, p, seed| Hand::new(fs, HandControls::from_params(p), seed),
+    /// Bumps: knocks and swells of the force ([`crate::scene::bumps`]).
+    bumps: Bumps = |fs, p, seed| Bumps::new(fs, BumpControls::from_params(p), seed),
     /// The force's coupling into the object ([`crate::source::dcblock`]).
     dc: DcBlock = |fs, _, _| DcBlock::new(fs),
     /// The object ([`crate::object::resonator`]).
@@ -312,14 +318,14 @@ impl Voice {
     }
 
     /// Hand the gesture's schedule to the source and the position stage: the rolling speed
-    /// V × the gesture's factor, the bowl's radius. Does nothing when the gesture is
-    /// neutral (the voice is then exactly what it was without gestures).
+    /// V × the gesture's factor × the hand's ([`crate::scene::hand`]), the bowl's radius.
+    /// Does nothing when the gesture and the hand are neutral (the voice is then exactly what
+    /// it was without them).
     fn apply_gesture(&mut self) {
-        let c = &mut self.chain;
-        if c.gesture.is_neutral() {
+        let Some(f) = self.rolling_factor() else {
             return;
-        }
-        let f = c.gesture.rolling_factor();
+        };
+        let c = &mut self.chain;
         let mut sc = SourceControls::from_params(&self.params);
         sc.velocity = (sc.velocity * f).clamp(0.0, 1.0);
         c.source.set_controls(sc);
@@ -506,10 +512,15 @@ impl Voice {
         }
     }
 
-    /// The gesture's factor on the rolling speed, `None` when it is neutral.
+    /// The gesture's factor on the rolling speed times the hand's, `None` when both are
+    /// neutral.
     fn rolling_factor(&self) -> Option<f64> {
         let g = &self.chain.gesture;
-        (!g.is_neutral()).then(|| g.rolling_factor())
+        let gesture = (!g.is_neutral()).then(|| g.rolling_factor());
+        match (gesture, self.chain.hand.speed_factor()) {
+            (None, None) => None,
+            (g, h) => Some(g.unwrap_or(1.0) * h.unwrap_or(1.0)),
+        }
     }
 
     /// One chunk through the chain of stages: the force (engine, gesture, space, extra
@@ -550,11 +561,15 @@ impl Voice {
         }
         Stage::process(&mut c.space, &mut self.force);
         Stage::process(&mut c.balls, (&mut self.force, &self.params));
-        let rolling_factor = (!c.gesture.is_neutral()).then(|| c.gesture.rolling_factor());
+        let rolling_factor = self.rolling_factor();
+        let c = &mut self.chain;
         Stage::process(
             &mut c.crowd,
             (&mut self.force, &self.params, rolling_factor),
         );
+        // The hand's pressure and the bumps act on the whole scene's contact force.
+        Stage::process(&mut c.hand, &mut self.force);
+        Stage::process(&mut c.bumps, (&mut self.force, &c.source, size, speed));
         self.apply_ball_level();
         let c = &mut self.chain;
         let silent_force = self.force.iter().all(|&f| f == 0.0);

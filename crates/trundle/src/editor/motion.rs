@@ -3,10 +3,10 @@
 //! section of the rows placed on [`Panel::Motion`], laid out from the rows' places.
 //!
 //! ```text
-//! ├ GESTURE ─────────────────────────┬ SURFACE ──────────────┬ CROWD ─────────┬ QUALITY ┤
-//! │ roll │ height bounce roll   spin │ seams depth path grit │ balls spread   │ draft    │
-//! │ drop │                           │                       │ detail         │ normal   │
-//! │ spin │                           │                       │                │ high …   │
+//! ├ GESTURE ────────────────────────────────────────────────┬ SURFACE ────────────────────────────┬ CROWD ───────┬ QUALITY ┤
+//! │ roll │ height bounce roll spin strokes rate shape wander │ seams depth path grit bumps bump rate │ balls spread │ draft    │
+//! │ drop │                                                   │                                     │ detail       │ normal   │
+//! │ spin │                                                   │                                     │              │ high …   │
 //! ```
 //!
 //! A section's selectors stand in a column on its left, its knobs follow in table order,
@@ -157,6 +157,8 @@ fn acts(id: ParamId, p: &Params) -> bool {
         ParamId::CrowdSpread | ParamId::CrowdDetail => p.get(ParamId::Crowd) > 1.0,
         ParamId::MicroTone => p.get(ParamId::Micro) > 0.0,
         ParamId::CrackleLevel => p.get(ParamId::Crackle) > 0.0,
+        ParamId::BumpRateHz => p.get(ParamId::Bumpiness) > 0.0,
+        ParamId::StrokeRateHz | ParamId::StrokeShape => p.get(ParamId::Strokes) > 0.0,
         _ => true,
     }
 }
@@ -172,7 +174,7 @@ mod tests {
         let titles: Vec<&str> = sections.iter().map(|(s, _)| s.title()).collect();
         assert_eq!(titles, ["Gesture", "Surface", "Crowd", "Quality"]);
         let rows: usize = sections.iter().map(|(_, ids)| ids.len()).sum();
-        assert_eq!(rows, 17);
+        assert_eq!(rows, 23);
         // Each section opens with at most one selector and has a control.
         for (s, ids) in &sections {
             assert!(!ids.is_empty(), "{s:?}");
