@@ -583,4 +583,15 @@ schema! {
         group: None,
         doc: "Speed/accuracy: how many of the crowd's loudest balls run a whole source (own series, AM, low-pass); the others are merged into one Poisson impact process of their summed rate, which costs per impact, not per ball",
     },
+    /// How much of the body EQ curve plays ([`crate::scene::body_eq`]).
+    BodyEq {
+        key: "body_eq",
+        name: "Body EQ",
+        unit: "",
+        values: percent(0.0, 1.0),
+        default: 1.0,
+        place: at(Panel::Object, Section::Knobs, "Body EQ"),
+        group: None,
+        doc: "How much of the object's body EQ curve plays (a preset's third-octave correction, set by trundle match): its band gains scaled in dB; 0 = the model's own spectrum, 1 = as matched; with no curve it does nothing (docs/MODEL.md, Body EQ)",
+    },
 }
