@@ -626,6 +626,7 @@ schema! {
         place: at(Panel::Motion, Section::Surface, "Crackle level"),
         group: None,
         doc: "How loud the crackle's clicks are over the contact's own force: the typical click peaks 6 dB (at 0) to 42 dB (at 1) above the force's running RMS",
+    },
     /// Slow broadband events on the surface: stones, flat spots, uneven boards
     /// ([`crate::scene::bumps`]).
     Bumpiness {
@@ -692,5 +693,16 @@ schema! {
         place: at(Panel::Motion, Section::Gesture, "Wander"),
         group: None,
         doc: "A hand, not a machine: speed and pressure wander at random, 1/f-like (octave-spaced random walks 0.125-8 Hz); at 1 the speed swings about x1.6 up and x1/1.6 down (one standard deviation), the pressure x1.4; 0 = a steady hand",
+    },
+    /// How much of the body EQ curve plays ([`crate::scene::body_eq`]).
+    BodyEq {
+        key: "body_eq",
+        name: "Body EQ",
+        unit: "",
+        values: percent(0.0, 1.0),
+        default: 1.0,
+        place: at(Panel::Object, Section::Knobs, "Body EQ"),
+        group: None,
+        doc: "How much of the object's body EQ curve plays (a preset's third-octave correction, set by trundle match): its band gains scaled in dB; 0 = the model's own spectrum, 1 = as matched; with no curve it does nothing (docs/MODEL.md, Body EQ)",
     },
 }

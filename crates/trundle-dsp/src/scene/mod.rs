@@ -14,6 +14,7 @@
 //! | [`space`] | the ball's path and the room around the object |
 //! | [`engine_mix`] | the engine choice, the physics controls' smoothing, the crossfade |
 //! | [`twins`] | the object's twins the physics engine's level match plays |
+//! | [`body_eq`] | the object's body EQ: a curve of third-octave gains, one amount |
 //! | [`limiter`] | the look-ahead, stereo-linked safety limiter |
 //! | [`events`] | notes and automation split the block where they fall |
 //! | [`impulse`] | the object struck once (an offline render) |
@@ -21,6 +22,7 @@
 
 pub mod balls;
 pub mod bumps;
+pub mod body_eq;
 pub mod crowd;
 pub mod engine_mix;
 pub mod events;

@@ -33,11 +33,16 @@
 //!   preset is one self-contained file and the presets embedded in the binary carry their
 //!   object. The material, decay, size and width controls then act on it as modifiers
 //!   ([`crate::object::fitted`]).
+//! * `body_eq` (optional) is the object's body EQ curve ([`crate::scene::body_eq`]):
+//!   `{"bands_hz": [...], "gain_db": [...]}`, gains (±40 dB) at increasing centres,
+//!   interpolated onto the third-octave bands; the `body_eq` control sets how much plays.
+//!   Absent = no curve (the model's own spectrum). `trundle match` writes it.
 //! * Every `presets/*.json` of the repository is embedded at build time
 //!   ([`BUILTIN_PRESETS`]), so a plugin bundle is self-contained.
 
 use crate::object::fitted::{self, LoadedObject, ObjectFile};
 use crate::params::{spec_by_key, ParamError, ParamId, ParamKind, ParamSpec, Params, PARAMS};
+use crate::scene::body_eq::{self, BodyEqCurve};
 use core::fmt;
 use serde_json::{Map, Value};
 use std::sync::Arc;
@@ -72,6 +77,8 @@ pub struct Preset {
     pub balls: Vec<BallNote>,
     /// A fitted object replacing the recipe object (`None`: the recipe).
     pub object: Option<ObjectFile>,
+    /// The body EQ curve (`None`: no curve, the model's own spectrum).
+    pub body_eq: Option<Arc<BodyEqCurve>>,
 }
 
 /// One extra ball of a scene: a note held from `start_s` to `stop_s`.
@@ -142,6 +149,8 @@ pub enum PresetError {
     Balls(String),
     /// A malformed fitted object.
     Object(String),
+    /// A malformed body EQ curve.
+    BodyEq(String),
 }
 
 impl fmt::Display for PresetError {
@@ -157,6 +166,7 @@ impl fmt::Display for PresetError {
             PresetError::Automation(e) => write!(f, "automation: {e}"),
             PresetError::Balls(e) => write!(f, "balls: {e}"),
             PresetError::Object(e) => write!(f, "object: {e}"),
+            PresetError::BodyEq(e) => write!(f, "body_eq: {e}"),
             PresetError::UnknownBuiltin(n) => {
                 write!(f, "no built-in preset '{n}' (available: ")?;
                 for (i, (stem, _)) in BUILTIN_PRESETS.iter().enumerate() {
@@ -197,6 +207,7 @@ impl Preset {
                     | "automation"
                     | "balls"
                     | "object"
+                    | "body_eq"
             ) {
                 return Err(PresetError::Syntax(format!("unknown field '{key}'")));
             }
@@ -249,6 +260,12 @@ impl Preset {
                 Some(ObjectFile { object, source })
             }
         };
+        let body_eq = match obj.get("body_eq") {
+            None => None,
+            Some(v) => Some(Arc::new(
+                body_eq::json::from_json(v).map_err(PresetError::BodyEq)?,
+            )),
+        };
         // A static load (the plugin) takes each lane's first value.
         for lane in &automation {
             params.set(lane.id, lane.points[0].1)?;
@@ -260,6 +277,7 @@ impl Preset {
             automation,
             balls,
             object,
+            body_eq,
         })
     }
 
@@ -288,6 +306,7 @@ impl Preset {
             voice.set_loaded_object(Some(o));
             voice.reset();
         }
+        voice.set_body_eq(self.body_eq.clone());
         voice
     }
 
@@ -374,6 +393,9 @@ impl Preset {
         }
         if let Some(o) = &self.object {
             top.insert("object".into(), fitted::to_json(&o.object, &o.source));
+        }
+        if let Some(c) = &self.body_eq {
+            top.insert("body_eq".into(), body_eq::json::to_json(c));
         }
         serde_json::to_string_pretty(&Value::Object(top)).expect("a JSON value always serializes")
     }

@@ -38,6 +38,7 @@ use crate::params::{ParamId, Params};
 use crate::physics::PhysicsEngine;
 use crate::scene::balls::{level_for_balls, BallId, BallPool, BallTarget, Expression};
 use crate::scene::bumps::{BumpControls, Bumps};
+use crate::scene::body_eq::{BodyEq, BodyEqCurve};
 use crate::scene::crowd::{scene_controls, Crowd, CrowdControls, MAX_DETAIL};
 use crate::scene::engine_mix::EngineMix;
 use crate::scene::gesture::{Gesture, GestureControls};
@@ -141,6 +142,8 @@ stages! {
     },
     /// The object's twins, for the physics engine's level match ([`crate::scene::twins`]).
     twins: Twins = |fs, p, _| Twins::new(fs, p),
+    /// The body EQ on the output, after the gain ([`crate::scene::body_eq`]).
+    body_eq: BodyEq = |fs, p, _| BodyEq::new(fs, p),
 }
 
 /// A complete rolling voice.
@@ -226,6 +229,20 @@ impl Voice {
     ) -> Option<Arc<LoadedObject>> {
         self.chain.twins.set_loaded(object.clone());
         self.chain.object.set_loaded(object)
+    }
+
+    /// Play a body EQ curve on the output ([`crate::scene::body_eq`]; the `body_eq` control
+    /// sets how much of it); `None` = no EQ (the output exactly as without it). The curve is
+    /// built off the audio thread; this call designs the filter (fixed arrays, no
+    /// allocation: real-time safe) and returns the previous curve so the caller drops it
+    /// off the audio thread. Applies from the next chunk.
+    pub fn set_body_eq(&mut self, curve: Option<Arc<BodyEqCurve>>) -> Option<Arc<BodyEqCurve>> {
+        self.chain.body_eq.set_curve(curve)
+    }
+
+    /// The body EQ stage (its curve, designed gains and error), for inspection.
+    pub fn body_eq(&self) -> &BodyEq {
+        &self.chain.body_eq
     }
 
     /// The fitted object the voice plays, if any.
@@ -523,9 +540,16 @@ impl Voice {
         }
     }
 
+    /// One chunk through the chain of stages, then the body EQ on both channels (a bypass
+    /// when there is no curve or its amount is 0).
+    fn render_chunk(&mut self) {
+        self.render_dry_chunk();
+        Stage::process(&mut self.chain.body_eq, (&mut self.sound, &mut self.side));
+    }
+
     /// One chunk through the chain of stages: the force (engine, gesture, space, extra
     /// balls, crowd, the level law), then the object, then the output.
-    fn render_chunk(&mut self) {
+    fn render_dry_chunk(&mut self) {
         let signal_only = self.chain.engines.signal_only();
         self.apply_gesture();
         if self.quiet
