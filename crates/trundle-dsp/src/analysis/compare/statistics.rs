@@ -229,4 +229,22 @@ mod tests {
         assert!(sk.abs() < 1e-12 && (k - 1.0).abs() < 1e-12);
         assert!((pearson(&x, &x) - 1.0).abs() < 1e-12);
     }
+
+    /// Steady noise halves its spread's square at twice the length: α = ½ (the old rule);
+    /// a spread that does not fall at all gives 0, one that grows is held at 0, and a kind
+    /// with no statistics keeps ½.
+    #[test]
+    fn convergence_exponents_of_known_spreads() {
+        let coarse = [(0, 1.0), (0, 2.0), (1, 1.0), (2, 1.0)];
+        let fine = [
+            (0, core::f64::consts::SQRT_2),
+            (0, 2.0 * core::f64::consts::SQRT_2),
+            (1, 1.0),
+            (2, 0.5),
+        ];
+        let a = convergence_exponents(&fine, &coarse);
+        assert!((a[0] - 0.5).abs() < 1e-12, "{a:?}");
+        assert!(a[1].abs() < 1e-12 && a[2].abs() < 1e-12, "{a:?}");
+        assert_eq!(a[3], 0.5);
+    }
 }
