@@ -21,6 +21,8 @@
 //!   limits: mode frequencies, decays, third-octave spectrum).
 //! * [`strike_corpus`]: the real strikes the judge is run on, and the pipeline (fit,
 //!   impulse render, judge) and its table.
+//! * [`texture_corpus`]: real rolling, rubbing and scraping recordings (issue #25) and the
+//!   spectrum-shaped noise they are compared against.
 
 #[cfg(feature = "alloc-guard")]
 pub mod alloc_guard;
@@ -34,5 +36,6 @@ pub mod soundfont;
 pub mod stats;
 pub mod strike_corpus;
 pub mod strike_judge;
+pub mod texture_corpus;
 pub mod tree;
 pub mod wav;
