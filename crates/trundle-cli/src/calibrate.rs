@@ -236,6 +236,7 @@ pub fn run(args: &CalibrateArgs) -> Result<String, CliError> {
         automation: Vec::new(),
         balls: Vec::new(),
         object: None,
+        matched: None,
     };
     let text = preset.to_json() + "\n";
     let (tmp, mut file) = TempFile::create_beside(&args.output, "tmp").map_err(|e| {

@@ -269,6 +269,7 @@ pub fn run(args: &FitRollArgs) -> Result<String, CliError> {
         automation: Vec::new(),
         balls: Vec::new(),
         object: embedded,
+        matched: None,
     };
     // Resynthesis: the preset's force, as long as the recording, analysed the same way.
     let seconds = force.len() as f64 / fs;

@@ -156,6 +156,7 @@ impl PresetStore {
             automation: Vec::new(),
             balls: Vec::new(),
             object,
+            matched: None,
         };
         fs::create_dir_all(&self.dir)
             .map_err(|e| format!("cannot create {}: {e}", self.dir.display()))?;

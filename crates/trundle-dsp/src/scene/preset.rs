@@ -33,6 +33,9 @@
 //!   preset is one self-contained file and the presets embedded in the binary carry their
 //!   object. The material, decay, size and width controls then act on it as modifiers
 //!   ([`crate::object::fitted`]).
+//! * `match` (optional) is what `trundle match` recorded: the recording, the distance at the
+//!   seeds it was validated at, each measure's value and verdict (docs/guide/match.md). Kept as
+//!   written; it does not change the sound.
 //! * Every `presets/*.json` of the repository is embedded at build time
 //!   ([`BUILTIN_PRESETS`]), so a plugin bundle is self-contained.
 
@@ -72,6 +75,9 @@ pub struct Preset {
     pub balls: Vec<BallNote>,
     /// A fitted object replacing the recipe object (`None`: the recipe).
     pub object: Option<ObjectFile>,
+    /// What `trundle match` recorded of how close the preset came to its recording (the
+    /// `"match"` object, kept as written; `None`: not a match).
+    pub matched: Option<Value>,
 }
 
 /// One extra ball of a scene: a note held from `start_s` to `stop_s`.
@@ -197,6 +203,7 @@ impl Preset {
                     | "automation"
                     | "balls"
                     | "object"
+                    | "match"
             ) {
                 return Err(PresetError::Syntax(format!("unknown field '{key}'")));
             }
@@ -249,6 +256,11 @@ impl Preset {
                 Some(ObjectFile { object, source })
             }
         };
+        let matched = match obj.get("match") {
+            None => None,
+            Some(v) if v.is_object() => Some(v.clone()),
+            Some(_) => return Err(PresetError::Field("match")),
+        };
         // A static load (the plugin) takes each lane's first value.
         for lane in &automation {
             params.set(lane.id, lane.points[0].1)?;
@@ -260,6 +272,7 @@ impl Preset {
             automation,
             balls,
             object,
+            matched,
         })
     }
 
@@ -374,6 +387,9 @@ impl Preset {
         }
         if let Some(o) = &self.object {
             top.insert("object".into(), fitted::to_json(&o.object, &o.source));
+        }
+        if let Some(m) = &self.matched {
+            top.insert("match".into(), m.clone());
         }
         serde_json::to_string_pretty(&Value::Object(top)).expect("a JSON value always serializes")
     }
