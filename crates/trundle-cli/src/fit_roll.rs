@@ -16,6 +16,7 @@ use crate::output::check_destination;
 use crate::stats::{impacts_of, Series, DEFAULT_THRESHOLD};
 use serde_json::json;
 use std::path::PathBuf;
+use trundle_dsp::analysis::compare::{compare, Comparison};
 use trundle_dsp::fit::deconvolve::{med_inverse, WienerInverse};
 use trundle_dsp::fit::roll::{fit_roll_with, Action, RollOptions};
 use trundle_dsp::fit::{log_spectral_distance_db, resynthesize};
@@ -71,6 +72,10 @@ pub struct FitRollArgs {
     /// default is the default scene's hard-wood ball.
     #[arg(long, default_value = "hardwood", value_parser = parse_ball_material)]
     pub ball_material: BallMaterial,
+    /// Write the preset even when its resynthesis is outside `trundle compare`'s limits
+    /// (without it such a fit is refused, exit code 2, nothing written).
+    #[arg(long)]
+    pub keep_poor_fit: bool,
     /// Overwrite an existing file.
     #[arg(long)]
     pub force: bool,
@@ -242,16 +247,51 @@ pub fn run(args: &FitRollArgs) -> Result<String, CliError> {
         }
     };
     let fit = fit_roll_with(&force, fs, &opts).map_err(|e| input(format!("{shown}: {e}")))?;
-    let (ax, ay) = fit.action.disk_xy();
     for (id, v) in [
         (ParamId::Roughness, fit.roughness),
         (ParamId::Size, fit.size),
         (ParamId::Velocity, fit.velocity.max(0.01)),
         (ParamId::Asymmetry, fit.am_depth),
-        (ParamId::ActionX, ax),
-        (ParamId::ActionY, ay),
     ] {
         p.set_clamped(id, v);
+    }
+    // The action by synthesis: the fitted controls at each corner of the action disk,
+    // rendered and judged against the recording by compare's four measures; the closest
+    // corner is the action (the impact series alone reads every real sound as a roll:
+    // through an object a rub and a roll are both near-Gaussian, and what tells them apart
+    // is the modulation and texture compare measures).
+    let judged: Vec<(Action, Option<Comparison>)> = [Action::Rub, Action::Scratch, Action::Roll]
+        .into_iter()
+        .map(|a| {
+            let mut q = p;
+            let (x, y) = a.disk_xy();
+            q.set_clamped(ParamId::ActionX, x);
+            q.set_clamped(ParamId::ActionY, y);
+            (
+                a,
+                judge_fit(&q, embedded.as_ref(), &rec.samples, fs, args.is_force),
+            )
+        })
+        .collect();
+    let loss_of = |c: &Option<Comparison>| c.as_ref().map_or(f64::INFINITY, Comparison::loss);
+    let (action_fit, verdict) = judged
+        .iter()
+        .min_by(|a, b| loss_of(&a.1).total_cmp(&loss_of(&b.1)))
+        .cloned()
+        .expect("three corners");
+    let (ax, ay) = action_fit.disk_xy();
+    p.set_clamped(ParamId::ActionX, ax);
+    p.set_clamped(ParamId::ActionY, ay);
+    let confidence = verdict.as_ref().map_or(0, Comparison::measures_passed);
+    let passed = verdict.as_ref().is_some_and(Comparison::passed);
+    if !passed && !args.keep_poor_fit {
+        let why = verdict.as_ref().map_or_else(
+            || "it cannot be compared (too short or silent)".to_string(),
+            |c| crate::match_cmd::failing(c).join("; "),
+        );
+        return Err(input(format!(
+            "{shown}: the fit's resynthesis is outside compare's limits ({confidence} of 4 measures pass; {why}); nothing written (--keep-poor-fit writes it anyway; `trundle match` searches further)"
+        )));
     }
     let source = args
         .file
@@ -262,7 +302,7 @@ pub fn run(args: &FitRollArgs) -> Result<String, CliError> {
         name: format!("Fitted from {source}"),
         description: format!(
             "trundle fit-roll of {source}: force by {how}; {:?}, {} impacts",
-            fit.action,
+            action_fit,
             fit.impacts.len()
         ),
         params: p,
@@ -270,6 +310,7 @@ pub fn run(args: &FitRollArgs) -> Result<String, CliError> {
         balls: Vec::new(),
         object: embedded,
         body_eq: None,
+        matched: None,
     };
     // Resynthesis: the preset's force, as long as the recording, analysed the same way.
     let seconds = force.len() as f64 / fs;
@@ -300,7 +341,7 @@ pub fn run(args: &FitRollArgs) -> Result<String, CliError> {
     synth64.iter_mut().for_each(|x| *x *= gain);
     let lsd = log_spectral_distance_db(&force, &synth64, fs);
     write_text(&args.output, &(preset.to_json() + "\n"), args.force)?;
-    let action = match fit.action {
+    let action = match action_fit {
         Action::Rub => "rub",
         Action::Scratch => "scratch",
         Action::Roll => "roll",
@@ -327,13 +368,19 @@ pub fn run(args: &FitRollArgs) -> Result<String, CliError> {
             "amplitude_b1": fit.series.amplitude_fit.b1,
             "ks_distance": ks,
             "log_spectral_distance_db": lsd,
+            "series_action": format!("{:?}", fit.action).to_lowercase(),
+            "action_losses": judged.iter().map(|(a, c)| (format!("{a:?}").to_lowercase(), serde_json::Value::from(loss_of(c)))).collect::<serde_json::Map<String, serde_json::Value>>(),
+            "compare": verdict.as_ref().map(crate::compare_cmd::to_json),
+            "confidence_measures_passed": confidence,
+            "passed": passed,
         });
         return Ok(serde_json::to_string_pretty(&r).expect("JSON values serialize") + "\n");
     }
     Ok(format!(
         "{}: {action}, {} impacts ({:.0}/s); force by {how}\n\
          roughness {:.3} (from μ_Δ {:.3}, b₁Δ {:.3}, b₁A {:.3}), AM {:.3} Hz depth {:.2}, size {:.3}, velocity {:.3}\n\
-         recording vs resynthesis: KS {:.3}, log-spectral distance {:.1} dB\n",
+         recording vs resynthesis: KS {:.3}, log-spectral distance {:.1} dB\n\
+         confidence: {confidence} of 4 compare measures within their limits (loss {:.2}){}\n",
         args.output.display(),
         fit.impacts.len(),
         fit.impact_rate_hz,
@@ -346,6 +393,44 @@ pub fn run(args: &FitRollArgs) -> Result<String, CliError> {
         fit.size,
         fit.velocity,
         ks,
-        lsd
+        lsd,
+        loss_of(&verdict),
+        if passed {
+            ""
+        } else {
+            "; outside the limits, kept by --keep-poor-fit"
+        }
     ))
+}
+
+/// The preset's sound (or force, for a force file) as long as the recording, judged
+/// against it by compare (`None`: not comparable).
+fn judge_fit(
+    p: &Params,
+    object: Option<&trundle_dsp::object::fitted::ObjectFile>,
+    recording: &[f64],
+    fs: f64,
+    is_force: bool,
+) -> Option<Comparison> {
+    let mut q = *p;
+    if is_force {
+        q.set_clamped(ParamId::Output, 1.0);
+    }
+    let preset = Preset {
+        name: String::new(),
+        description: String::new(),
+        params: q,
+        automation: Vec::new(),
+        balls: Vec::new(),
+        object: object.cloned(),
+        body_eq: None,
+        matched: None,
+    };
+    let mut v = preset.new_voice(fs);
+    let mut out = vec![0f32; recording.len()];
+    for b in out.chunks_mut(4096) {
+        v.process(b);
+    }
+    let x: Vec<f64> = out.iter().map(|&s| f64::from(s)).collect();
+    compare(recording, fs, &x, fs).ok()
 }

@@ -17,12 +17,13 @@
 //! trundle bench [--json] [--quick]    what the engine costs on this machine
 //! trundle fit-object KNOCK.wav -o wood.object.json [--json] [--plot F.png]   an object from a recorded strike
 //! trundle fit-roll ROLL.wav [--object F | --is-force] -o roll.json [--json]   a preset from a roll
+//! trundle match REC.wav -o preset.json [--seconds S] [--seeds K] [--budget N] [--jobs J]   a preset matched to a recording
 //! trundle spectrum A.wav [B.wav…] [--labels a,b] [--plot out.png] [--json]   third-octave spectra
 //! ```
 //!
 //! The command drives the very same engine as the plugin ([`trundle_dsp::Voice`]) with
 //! the same parameter table and presets. Exit codes: 0 success, 1 failure while working
-//! (I/O), 2 bad input — every bad input is refused with a single `error: …` line naming
+//! (I/O), 2 bad input, 3 `match` found no setting within the limits (its best is written) — every bad input is refused with a single `error: …` line naming
 //! it, before anything is rendered or written (see [`error`]).
 
 mod analyze;
@@ -37,6 +38,9 @@ mod fit_plot;
 mod fit_roll;
 mod level;
 mod list;
+mod match_cmd;
+mod match_search;
+mod match_space;
 mod output;
 mod physics_cmd;
 mod render;
@@ -99,6 +103,9 @@ enum Command {
     /// How close a sound is to a recording: spectrum, modulation, texture statistics and
     /// impulsiveness, each with its limit and a verdict.
     Compare(compare_cmd::CompareArgs),
+    /// A preset that sounds like a recording: CMA-ES over the controls, each candidate
+    /// judged by compare's four measures at several seeds (exit 3: best found, outside).
+    Match(match_cmd::MatchArgs),
 }
 
 /// Print to stdout; a closed pipe (`trundle params | head`) ends quietly, not in a panic.
@@ -120,6 +127,7 @@ fn main() -> ExitCode {
             return ExitCode::from(u8::try_from(e.exit_code()).unwrap_or(error::EXIT_INPUT));
         }
     };
+    let mut code = 0u8;
     let result = match &cli.command {
         Command::Render(args) => render::run(args).and_then(|line| emit(&format!("{line}\n"))),
         Command::Soak(args) => soak::run(args).and_then(|line| emit(&format!("{line}\n"))),
@@ -134,9 +142,13 @@ fn main() -> ExitCode {
         Command::FitRoll(args) => fit_roll::run(args).and_then(|t| emit(&t)),
         Command::Spectrum(args) => spectrum::run(args).and_then(|t| emit(&t)),
         Command::Compare(args) => compare_cmd::run(args).and_then(|t| emit(&t)),
+        Command::Match(args) => match_cmd::run(args).and_then(|(t, c)| {
+            code = c;
+            emit(&t)
+        }),
     };
     match result {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(()) => ExitCode::from(code),
         Err(e) => {
             eprintln!("error: {e}");
             ExitCode::from(e.exit_code())

@@ -87,7 +87,7 @@ fn render_and_fit_roll(d: &Path, roll: (f64, f64, f64), fit_args: &[&str]) -> Ro
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let rendered = fs::read_to_string(&csv).unwrap().lines().count() - 1;
     let preset = d.join(format!("{name}.json"));
-    let mut args = vec!["fit-roll", wav.to_str().unwrap()];
+    let mut args = vec!["fit-roll", wav.to_str().unwrap(), "--keep-poor-fit"];
     args.extend_from_slice(fit_args);
     args.extend(["-o", preset.to_str().unwrap(), "--json"]);
     let o = run(&args);
@@ -143,6 +143,7 @@ fn rolls_rendered_by_trundle_are_fitted_back() {
         let out = d.join(format!("{name}.json"));
         let o = run(&[
             "fit-roll",
+            "--keep-poor-fit",
             wav.to_str().unwrap(),
             "--is-force",
             "-o",
@@ -253,6 +254,7 @@ fn a_roll_on_a_known_object_is_fitted_through_its_inverse() {
     let out = d.join("roll.json");
     let o = run(&[
         "fit-roll",
+        "--keep-poor-fit",
         wav.to_str().unwrap(),
         "--object",
         object_path.to_str().unwrap(),
@@ -403,6 +405,7 @@ fn roll_sounds_are_fitted_back_through_the_inverse_of_a_fitted_object() {
         write_wav(&noisy_wav, fs as u32, 1, &noisy);
         let o = run(&[
             "fit-roll",
+            "--keep-poor-fit",
             noisy_wav.to_str().unwrap(),
             "--object",
             object_path.to_str().unwrap(),

@@ -157,6 +157,7 @@ impl PresetStore {
             balls: Vec::new(),
             object,
             body_eq: None,
+            matched: None,
         };
         fs::create_dir_all(&self.dir)
             .map_err(|e| format!("cannot create {}: {e}", self.dir.display()))?;

@@ -37,6 +37,9 @@
 //!   `{"bands_hz": [...], "gain_db": [...]}`, gains (±40 dB) at increasing centres,
 //!   interpolated onto the third-octave bands; the `body_eq` control sets how much plays.
 //!   Absent = no curve (the model's own spectrum). `trundle match` writes it.
+//! * `match` (optional) is what `trundle match` recorded: the recording, the distance at the
+//!   seeds it was validated at, each measure's value and verdict (docs/guide/match.md). Kept as
+//!   written; it does not change the sound.
 //! * Every `presets/*.json` of the repository is embedded at build time
 //!   ([`BUILTIN_PRESETS`]), so a plugin bundle is self-contained.
 
@@ -79,6 +82,9 @@ pub struct Preset {
     pub object: Option<ObjectFile>,
     /// The body EQ curve (`None`: no curve, the model's own spectrum).
     pub body_eq: Option<Arc<BodyEqCurve>>,
+    /// What `trundle match` recorded of how close the preset came to its recording (the
+    /// `"match"` object, kept as written; `None`: not a match).
+    pub matched: Option<Value>,
 }
 
 /// One extra ball of a scene: a note held from `start_s` to `stop_s`.
@@ -208,6 +214,7 @@ impl Preset {
                     | "balls"
                     | "object"
                     | "body_eq"
+                    | "match"
             ) {
                 return Err(PresetError::Syntax(format!("unknown field '{key}'")));
             }
@@ -266,6 +273,11 @@ impl Preset {
                 body_eq::json::from_json(v).map_err(PresetError::BodyEq)?,
             )),
         };
+        let matched = match obj.get("match") {
+            None => None,
+            Some(v) if v.is_object() => Some(v.clone()),
+            Some(_) => return Err(PresetError::Field("match")),
+        };
         // A static load (the plugin) takes each lane's first value.
         for lane in &automation {
             params.set(lane.id, lane.points[0].1)?;
@@ -278,6 +290,7 @@ impl Preset {
             balls,
             object,
             body_eq,
+            matched,
         })
     }
 
@@ -396,6 +409,9 @@ impl Preset {
         }
         if let Some(c) = &self.body_eq {
             top.insert("body_eq".into(), body_eq::json::to_json(c));
+        }
+        if let Some(m) = &self.matched {
+            top.insert("match".into(), m.clone());
         }
         serde_json::to_string_pretty(&Value::Object(top)).expect("a JSON value always serializes")
     }

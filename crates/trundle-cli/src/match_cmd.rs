@@ -1,0 +1,340 @@
+//! `trundle match RECORDING -o preset.json [--seconds S] [--seeds K] [--budget N] [--jobs J]
+//! [--strike STRIKE.wav] [--json]`: a preset that sounds like a recording, found by analysis
+//! by synthesis (issue #25 item 2; docs/guide/match.md).
+//!
+//! ```text
+//! RECORDING ─► excerpt (the middle S s) ─► profile (compare's four measures, once)
+//!   ─► cue: waveform kurtosis → rub / roll / scratch (the search's start on the action disk)
+//!   [--strike ─► fit-object ─► the candidates play the fitted object]
+//!   ─► CMA-ES over match_space::SPACE, restarts over (ball material, shape);
+//!      each candidate rendered at K seeds, heard through its body EQ, judged (match_search)
+//!   ─► the best, through its curve, at 3 OTHER seeds: each measure's value and verdict
+//!   ─► preset (params, seed, body EQ curve, "match" record) ─► exit 0 (a match) or 3
+//! ```
+//!
+//! Exit codes: 0 the preset is a match (all four measures within their limits at every
+//! validation seed); 3 the preset is the best found but outside the limits (written, and
+//! the failing measures named with their numbers); 2 bad input; 1 I/O failure.
+
+use crate::compare_cmd::load_mono;
+use crate::error::{failure, input, quote, CliError};
+use crate::fit_cmd::{fit_file, write_text};
+use crate::match_search::{judge, search, Judged, Plan, Target};
+use crate::match_space::{action_cue, action_name, dims, restarts_for, RESTARTS};
+use crate::output::check_destination;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use serde_json::{json, Value};
+use std::path::PathBuf;
+use std::time::Instant;
+use trundle_dsp::analysis::compare::{profile, Comparison, Verdict, TOP_HZ};
+use trundle_dsp::object::fitted::{LoadedObject, ObjectFile};
+use trundle_dsp::scene::preset::Preset;
+use trundle_dsp::{ParamId, Params};
+
+/// Exit code of a match outside the limits (the best preset is still written).
+pub const EXIT_OUTSIDE: u8 = 3;
+/// Seeds the winner is validated at: none of them is a search seed (those are 1 … K).
+pub const VALIDATION_SEEDS: [u32; 3] = [1001, 2002, 3003];
+/// A restart stops when its loss at the search seeds is this far inside the limits (a
+/// loss of 1 is the worst measure at its limit): a margin for the unseen seeds.
+pub const TARGET_LOSS: f64 = 0.75;
+
+/// Arguments of `trundle match`.
+#[derive(clap::Args, Debug)]
+#[command(after_help = "\
+Examples:
+  trundle match gravel.wav -o gravel.json
+  trundle match gravel.wav -o gravel.json --budget 600 --jobs 0
+  trundle match rub.wav -o rub.json --strike knock.wav --json
+Exit codes: 0 a match (every measure within its limit at 3 unseen seeds), 3 the best
+preset found is written but outside the limits (the failing measures are named),
+2 bad input, 1 I/O failure.")]
+pub struct MatchArgs {
+    /// The recording to match (WAV, FLAC or OGG; mono mix).
+    pub recording: PathBuf,
+    /// The preset file to write (JSON).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Seconds of the recording matched (its middle; the whole if shorter).
+    #[arg(long, default_value_t = 5.0)]
+    pub seconds: f64,
+    /// Seeds every candidate is rendered at (its loss is ½(mean + max) over them).
+    #[arg(long, default_value_t = 2)]
+    pub seeds: u32,
+    /// Candidates judged in all (each rendered at every seed).
+    #[arg(long, default_value_t = 160)]
+    pub budget: usize,
+    /// Threads (0: every core).
+    #[arg(long, default_value_t = 1)]
+    pub jobs: usize,
+    /// A recorded strike of the object: fit-object runs on it and the candidates play it.
+    #[arg(long, value_name = "STRIKE.wav")]
+    pub strike: Option<PathBuf>,
+    /// The search's random draws.
+    #[arg(long, default_value_t = 1)]
+    pub search_seed: u64,
+    /// Overwrite an existing file.
+    #[arg(long)]
+    pub force: bool,
+    /// Print the report as JSON (no progress bar).
+    #[arg(long)]
+    pub json: bool,
+}
+
+fn verdict_json(v: &Verdict) -> Value {
+    json!({ "value": v.value, "limit": v.limit, "passed": v.passed })
+}
+
+fn comparison_json(seed: u32, c: &Comparison) -> Value {
+    json!({
+        "seed": seed,
+        "loss": c.loss(),
+        "passed": c.passed(),
+        "measures_passed": c.measures_passed(),
+        "spectrum_db": verdict_json(&c.spectrum),
+        "modulation_db": verdict_json(&c.modulation),
+        "texture": verdict_json(&c.texture),
+        "kurtosis_ratio": verdict_json(&c.kurtosis),
+        "crest_db": verdict_json(&c.crest),
+    })
+}
+
+/// The failing measures of a comparison, each with its number and limit.
+pub fn failing(c: &Comparison) -> Vec<String> {
+    let mut out = Vec::new();
+    if !c.spectrum.passed {
+        out.push(format!(
+            "spectrum {:.2} dB (limit {:.1})",
+            c.spectrum.value, c.spectrum.limit
+        ));
+    }
+    if !c.modulation.passed {
+        out.push(format!(
+            "modulation {:.2} dB (limit {:.1})",
+            c.modulation.value, c.modulation.limit
+        ));
+    }
+    if !c.texture.passed {
+        out.push(format!(
+            "texture {:.2} (limit {:.1})",
+            c.texture.value, c.texture.limit
+        ));
+    }
+    if !c.kurtosis.passed {
+        out.push(format!(
+            "kurtosis ×{:.2} (limit ×/÷{:.0})",
+            c.kurtosis.value, c.kurtosis.limit
+        ));
+    }
+    if !c.crest.passed {
+        out.push(format!(
+            "crest {:+.1} dB (limit ±{:.0})",
+            c.crest.value, c.crest.limit
+        ));
+    }
+    out
+}
+
+/// Run `trundle match`: the report and the exit code (0 or [`EXIT_OUTSIDE`]).
+pub fn run(args: &MatchArgs) -> Result<(String, u8), CliError> {
+    let started = Instant::now();
+    check_destination(&args.output, "--output", args.force)?;
+    if !(args.seconds.is_finite() && args.seconds >= 1.0) {
+        return Err(input(format!(
+            "--seconds must be at least 1 (s), got {}",
+            args.seconds
+        )));
+    }
+    if !(1..=8).contains(&args.seeds) {
+        return Err(input(format!("--seeds must be 1 … 8, got {}", args.seeds)));
+    }
+    if args.budget < 8 {
+        return Err(input(format!(
+            "--budget must be at least 8 candidates, got {}",
+            args.budget
+        )));
+    }
+    let (x, fs) = load_mono(&args.recording)?;
+    let shown = quote(&args.recording.display().to_string());
+    let want = (args.seconds * fs) as usize;
+    let excerpt = if x.len() > want {
+        let a = (x.len() - want) / 2;
+        x[a..a + want].to_vec()
+    } else {
+        x
+    };
+    let top = TOP_HZ.min(0.5 * fs);
+    let reference =
+        profile(&excerpt, fs, top, "recording").map_err(|e| input(format!("{shown}: {e}")))?;
+    let object = match &args.strike {
+        None => None,
+        Some(path) => {
+            let (fit, _, _) = fit_file(path)?;
+            let source = path
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            let file = ObjectFile {
+                object: fit,
+                source,
+            };
+            let loaded = LoadedObject::new(file.clone()).map_err(|e| {
+                input(format!(
+                    "{}: the fitted object is not playable: {e}",
+                    quote(&path.display().to_string())
+                ))
+            })?;
+            Some((file, std::sync::Arc::new(loaded)))
+        }
+    };
+    let target = Target {
+        reference,
+        sample_rate_hz: fs,
+        samples: excerpt.len(),
+        object: object.as_ref().map(|o| o.1.clone()),
+    };
+    // The start: the defaults (the limiter on, as a render plays it), the velocity inside
+    // the searched range; every restart's start (each action corner, other balls and
+    // shapes) judged first, the search run from the best.
+    let cue = action_cue(target.reference.kurtosis);
+    let mut start = Params::default();
+    start.set_clamped(ParamId::Velocity, 0.4);
+    let dims = dims();
+    let threads = if args.jobs == 0 {
+        std::thread::available_parallelism().map_or(1, |n| n.get())
+    } else {
+        args.jobs
+    };
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| failure(format!("cannot start {threads} threads: {e}")))?;
+    let bar = if args.json {
+        ProgressBar::hidden()
+    } else {
+        let style = ProgressStyle::with_template(
+            "matching [{bar:40}] {pos}/{len} candidates  {elapsed} elapsed, eta {eta}",
+        )
+        .unwrap_or_else(|_| ProgressStyle::default_bar())
+        .progress_chars("=> ");
+        ProgressBar::with_draw_target(Some(args.budget as u64), ProgressDrawTarget::stderr())
+            .with_style(style)
+    };
+    let plan = Plan {
+        dims: &dims,
+        start,
+        restarts: restarts_for(cue, RESTARTS.len()),
+        seeds: (1..=args.seeds).collect(),
+        budget: args.budget,
+        seed: args.search_seed,
+        target_loss: TARGET_LOSS,
+    };
+    let found = search(&target, &plan, &pool, &bar);
+    bar.finish_and_clear();
+    // Validation: the winner through its own curve at seeds the search never heard.
+    let best = found.best;
+    let validation: Judged = judge(&target, &best.params, &VALIDATION_SEEDS, Some(&best.curve));
+    let matched = validation.comparisons.len() == VALIDATION_SEEDS.len()
+        && validation.comparisons.iter().all(Comparison::passed);
+    let brightness = validation.brightness;
+    let seconds = started.elapsed().as_secs_f64();
+    let name = args
+        .recording
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let (ax, ay) = (
+        best.params.get(ParamId::ActionX),
+        best.params.get(ParamId::ActionY),
+    );
+    let action = action_name(ax, ay);
+    let per_seed: Vec<Value> = VALIDATION_SEEDS
+        .iter()
+        .zip(&validation.comparisons)
+        .map(|(&s, c)| comparison_json(s, c))
+        .collect();
+    let record = json!({
+        "recording": name,
+        "seconds": target.samples as f64 / fs,
+        "passed": matched,
+        "loss": validation.loss,
+        "loss_note": "½(mean + max) of compare's loss over the validation seeds, + 5 per unit of brightness ratio under 1.1",
+        "search_loss": best.loss,
+        "search_seeds": plan.seeds,
+        "validation": per_seed,
+        "action": action,
+        "brightness_at_1_5x_velocity": brightness,
+        "candidates": found.evaluations,
+        "elapsed_s": seconds,
+        "body_eq": { "bands_hz": best.curve.bands_hz, "gain_db": best.curve.gain_db },
+    });
+    let mut params = best.params;
+    params.set_clamped(ParamId::Seed, f64::from(plan.seeds[0]));
+    // The preset plays its body EQ whole (0 = the model's own spectrum).
+    params.set_clamped(ParamId::BodyEq, 1.0);
+    let preset = Preset {
+        name: format!("Matched to {name}"),
+        description: format!(
+            "trundle match of {name}: {action}, loss {:.2} at seeds {:?} ({})",
+            validation.loss,
+            VALIDATION_SEEDS,
+            if matched {
+                "within every limit"
+            } else {
+                "outside the limits"
+            }
+        ),
+        params,
+        automation: Vec::new(),
+        balls: Vec::new(),
+        object: object.map(|o| o.0),
+        body_eq: best.curve.body_eq(),
+        matched: Some(record.clone()),
+    };
+    write_text(&args.output, &(preset.to_json() + "\n"), args.force)?;
+    let code = if matched { 0 } else { EXIT_OUTSIDE };
+    if args.json {
+        let mut r = record;
+        r["output"] = Value::String(args.output.display().to_string());
+        r["exit_code"] = Value::from(code);
+        return Ok((
+            serde_json::to_string_pretty(&r).expect("JSON values serialize") + "\n",
+            code,
+        ));
+    }
+    let mut s = format!(
+        "{}: {action} (action {ax:.2}, {ay:.2}), {} candidates × {} seeds in {seconds:.1} s; cue {cue} (kurtosis {:.2})\n",
+        args.output.display(),
+        found.evaluations,
+        plan.seeds.len(),
+        target.reference.kurtosis
+    );
+    s += &format!(
+        "validated at seeds {VALIDATION_SEEDS:?} (not searched): loss {:.2} (search {:.2})\n",
+        validation.loss, best.loss
+    );
+    for (seed, c) in VALIDATION_SEEDS.iter().zip(&validation.comparisons) {
+        s += &format!(
+            "  seed {seed}: spectrum {:.2} dB, modulation {:.2} dB, texture {:.2}, kurtosis ×{:.2}, crest {:+.1} dB: {} of 4\n",
+            c.spectrum.value,
+            c.modulation.value,
+            c.texture.value,
+            c.kurtosis.value,
+            c.crest.value,
+            c.measures_passed()
+        );
+    }
+    s += &format!("1.5× velocity: spectral centroid ×{brightness:.2}\n");
+    if matched {
+        s += "a match: every measure within its limit at every validation seed\n";
+    } else {
+        s += "NOT a match: no setting found comes within the limits; the best is written.\n";
+        for (seed, c) in VALIDATION_SEEDS.iter().zip(&validation.comparisons) {
+            let f = failing(c);
+            if !f.is_empty() {
+                s += &format!("  seed {seed} fails: {}\n", f.join("; "));
+            }
+        }
+    }
+    Ok((s, code))
+}
