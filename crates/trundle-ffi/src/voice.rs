@@ -209,6 +209,7 @@ pub unsafe extern "C" fn trundle_voice_load_preset(
                 .map_err(|e| Failure::text(TrundleStatus::BadPreset, e.to_string()))?;
             v.apply(preset.params);
             v.voice.set_loaded_object(object);
+            drop(v.voice.set_body_eq(preset.body_eq.clone()));
             v.voice.reset();
             Ok(())
         })

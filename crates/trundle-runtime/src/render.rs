@@ -71,6 +71,7 @@ impl PresetRenderer {
             voice.set_loaded_object(object);
             voice.reset();
         }
+        voice.set_body_eq(preset.body_eq.clone());
         let mut limiter = Limiter::new(sample_rate_hz);
         limiter.set_enabled(params.limiting() == Limiting::On);
         Ok(Self {

@@ -164,6 +164,7 @@ pub(crate) fn render_in_memory(plan: &Plan) -> Vec<f32> {
         voice.set_loaded_object(plan.object.clone());
         voice.reset();
     }
+    voice.set_body_eq(plan.body_eq.clone());
     let mut out = Vec::with_capacity(plan.frames as usize * usize::from(plan.channels));
     let mut frame = Vec::with_capacity(2 * BLOCK);
     let (mut impacts, mut nonfinite) = (Impacts::default(), 0u64);

@@ -9,6 +9,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use trundle_dsp::object::fitted::LoadedObject;
 use trundle_dsp::params::{spec_by_key, Output, ParamEnum, ParamId};
+use trundle_dsp::scene::body_eq::BodyEqCurve;
 use trundle_dsp::scene::events::VoiceEvent;
 use trundle_dsp::scene::preset::{Lane, Preset};
 use trundle_dsp::Params;
@@ -45,6 +46,8 @@ pub(crate) struct Plan {
     pub(crate) overwrite: bool,
     /// The fitted object played instead of the recipe (from --object or the preset).
     pub(super) object: Option<Arc<LoadedObject>>,
+    /// The preset's body EQ curve (`body_eq` sets how much plays).
+    pub(super) body_eq: Option<Arc<BodyEqCurve>>,
     /// Render the impulse response (`--impulse`); `frames` is then the longest length
     /// unless `--seconds` fixed it.
     pub(super) impulse: bool,
@@ -233,6 +236,7 @@ pub(crate) fn plan(args: &RenderArgs, take: Option<TakeOverride>) -> Result<Plan
         impacts: args.impacts.clone(),
         overwrite: args.force,
         object,
+        body_eq: preset.body_eq.clone(),
         impulse: args.impulse,
         seconds_given: args.seconds.is_some(),
     })

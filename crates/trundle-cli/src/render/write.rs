@@ -30,6 +30,7 @@ pub(super) fn execute(plan: &Plan) -> Result<String, CliError> {
         voice.set_loaded_object(plan.object.clone());
         voice.reset();
     }
+    voice.set_body_eq(plan.body_eq.clone());
     voice.set_impact_log(true);
 
     // Create the temporary outputs first: a folder that cannot be written fails before

@@ -17,9 +17,10 @@
 //!   up to 40 dB, tested at 8–384 kHz). Bands at or above 0.45·f_s are left out. It runs in
 //!   f64 on the voice's output after the gain, both channels (mid and side) through the
 //!   same curve, before the safety limiter.
-//! * **The amount** scales the designed band gains in dB: a·g. The response at the centres
-//!   is then close to a·curve (exact at 0 and 1; the skirts' growth with gain makes it
-//!   differ in between, measured in the tests). The amount glides with the crate's smoother
+//! * **The amount** a scales the curve in dB: the filter is designed for a·curve at
+//!   a = 0, ¼, ½, ¾, 1 ([`AMOUNT_STEPS`]) and the band gains are interpolated linearly in
+//!   between (the response stays within about 0.25 dB of a·curve for smooth curves, tested
+//!   within 0.75 dB for steep ones). The amount glides with the crate's smoother
 //!   and the coefficients follow once per chunk. At amount 0, or with no curve, the filter is
 //!   bypassed exactly: the samples pass untouched (bit for bit).
 //! * **Offline** ([`apply_body_eq`]): the same filter over a rendered buffer, chunk for chunk
@@ -44,6 +45,11 @@ pub const BODY_EQ_BANDS: usize = 30;
 pub const BODY_EQ_MAX_DB: f64 = 40.0;
 /// Most points a curve may list.
 pub const BODY_EQ_MAX_POINTS: usize = 256;
+/// The amount's design grid: the curve is designed exactly at amounts k/4, k = 0 … 4, and
+/// the band gains interpolated linearly in between (measured within 0.25 dB of a·curve for
+/// smooth curves, 0.65 dB for ±40 dB steps between bands; scaling one design's gains
+/// instead is 3–5 dB off at ½).
+pub const AMOUNT_STEPS: usize = 4;
 /// Lowest and highest frequency a curve's point may sit at (Hz).
 pub const BODY_EQ_FREQ_RANGE_HZ: (f64, f64) = (1.0, 200_000.0);
 
@@ -245,9 +251,9 @@ pub struct BodyEq {
     fs: f64,
     design: Design,
     curve: Option<Arc<BodyEqCurve>>,
-    /// Band gains designed for the curve at amount 1 (dB).
-    gains_db: [f64; BODY_EQ_BANDS],
-    /// Largest error of the design at a centre (dB).
+    /// Band gains designed for the curve at amounts k/[`AMOUNT_STEPS`], k = 0 … 4 (dB).
+    gains_db: [[f64; BODY_EQ_BANDS]; AMOUNT_STEPS + 1],
+    /// Largest error of the designs at a centre (dB).
     error_db: f64,
     amount: Smoother,
     /// The amount the coefficients were computed for (NaN: none yet).
@@ -270,7 +276,7 @@ impl BodyEq {
             fs,
             design: Design::new(fs),
             curve: None,
-            gains_db: [0.0; BODY_EQ_BANDS],
+            gains_db: [[0.0; BODY_EQ_BANDS]; AMOUNT_STEPS + 1],
             error_db: 0.0,
             amount: Smoother::new(params.get(ParamId::BodyEq)),
             coef_amount: f64::NAN,
@@ -280,8 +286,9 @@ impl BodyEq {
         }
     }
 
-    /// Play `curve` (`None`: no EQ). Designs the band gains at the current rate: real-time
-    /// safe (fixed arrays, no allocation), a few hundred microseconds. Returns the previous
+    /// Play `curve` (`None`: no EQ). Designs the band gains at the current rate (four
+    /// designs, the amount's grid): real-time safe (fixed arrays, no allocation), about a
+    /// millisecond. Returns the previous
     /// curve so the caller drops it off the audio thread. The filter state is kept (a change
     /// of curve does not click more than the change itself).
     pub fn set_curve(&mut self, curve: Option<Arc<BodyEqCurve>>) -> Option<Arc<BodyEqCurve>> {
@@ -297,7 +304,7 @@ impl BodyEq {
 
     /// The designed band gains at amount 1 (dB; 0 for bands left out or with no curve).
     pub fn band_gains_db(&self) -> &[f64; BODY_EQ_BANDS] {
-        &self.gains_db
+        &self.gains_db[AMOUNT_STEPS]
     }
 
     /// The design's largest error at a designed centre (dB).
@@ -319,25 +326,35 @@ impl BodyEq {
     fn redesign(&mut self) {
         match &self.curve {
             None => {
-                self.gains_db = [0.0; BODY_EQ_BANDS];
+                self.gains_db = [[0.0; BODY_EQ_BANDS]; AMOUNT_STEPS + 1];
                 self.error_db = 0.0;
             }
             Some(c) => {
-                let (g, e) = self.design.solve(c.standard_db());
-                self.gains_db = g;
-                self.error_db = e;
+                self.error_db = 0.0;
+                for k in 1..=AMOUNT_STEPS {
+                    let a = k as f64 / AMOUNT_STEPS as f64;
+                    let target = c.standard_db().map(|g| a * g);
+                    let (g, e) = self.design.solve(&target);
+                    self.gains_db[k] = g;
+                    self.error_db = self.error_db.max(e);
+                }
             }
         }
         self.coef_amount = f64::NAN;
     }
 
-    /// Coefficients for `amount` (the band gains scaled in dB).
+    /// Coefficients for `amount`: the band gains interpolated linearly between the two
+    /// designs around it (exactly the design at 0, ¼, ½, ¾ and 1).
     fn update_coefficients(&mut self, amount: f64) {
         if amount == self.coef_amount {
             return;
         }
+        let x = amount.clamp(0.0, 1.0) * AMOUNT_STEPS as f64;
+        let j = (x as usize).min(AMOUNT_STEPS - 1);
+        let u = x - j as f64;
+        let (lo, hi) = (&self.gains_db[j], &self.gains_db[j + 1]);
         for (i, c) in self.coef.iter_mut().enumerate() {
-            *c = self.design.coefficients(i, amount * self.gains_db[i]);
+            *c = self.design.coefficients(i, (1.0 - u) * lo[i] + u * hi[i]);
         }
         self.coef_amount = amount;
     }
@@ -367,10 +384,11 @@ impl BodyEq {
         let mut ringing = false;
         for ch in &mut self.state {
             for v in ch.iter_mut().flatten() {
-                if !(v.abs() > f64::from(FLUSH_THRESHOLD)) {
-                    *v = 0.0;
-                } else {
+                if v.abs() > f64::from(FLUSH_THRESHOLD) {
                     ringing = true;
+                } else {
+                    // Below the threshold, or NaN: flushed.
+                    *v = 0.0;
                 }
             }
         }
@@ -424,7 +442,8 @@ impl Stage for BodyEq {
     }
 
     fn is_idle(&self) -> bool {
-        !self.ringing && !(self.curve.is_some() && self.amount.is_moving())
+        let gliding = self.curve.is_some() && self.amount.is_moving();
+        !self.ringing && !gliding
     }
 
     fn process(&mut self, (mid, side): Self::Io<'_>) {
