@@ -779,3 +779,10 @@ enum TrundleStatus trundle_voice_render_interleaved(struct TrundleVoice *voice, 
 #define TRUNDLE_PARAM_MICRO_TONE 41 /* Micro tone, -1 to 1 */
 #define TRUNDLE_PARAM_CRACKLE 42 /* Crackle, 0 to 1 */
 #define TRUNDLE_PARAM_CRACKLE_LEVEL 43 /* Crackle level, 0 to 1 */
+#define TRUNDLE_PARAM_BUMPINESS 44 /* Bumpiness, 0 to 1 */
+#define TRUNDLE_PARAM_BUMP_RATE_HZ 45 /* Bump rate, 0.25 to 8 Hz */
+#define TRUNDLE_PARAM_STROKES 46 /* Strokes, 0 to 1 */
+#define TRUNDLE_PARAM_STROKE_RATE_HZ 47 /* Stroke rate, 0.3 to 8 Hz */
+#define TRUNDLE_PARAM_STROKE_SHAPE 48 /* Stroke shape, 0 to 1 */
+#define TRUNDLE_PARAM_WANDER 49 /* Hand wander, 0 to 1 */
+#define TRUNDLE_PARAM_BODY_EQ 50 /* Body EQ, 0 to 1 */
