@@ -8,8 +8,8 @@
 //! already and join the search when their rows exist.
 
 use std::sync::Arc;
-use trundle_dsp::scene::body_eq::{apply_body_eq, BodyEqCurve};
 use trundle_dsp::params::{spec_by_key, BallMaterial, ParamKind, Shape};
+use trundle_dsp::scene::body_eq::{apply_body_eq, BodyEqCurve};
 use trundle_dsp::{ParamId, Params};
 
 /// Highest velocity a match may choose: the held-out check renders a match at 1.5× its

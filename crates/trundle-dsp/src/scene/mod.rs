@@ -21,8 +21,8 @@
 //! | `preset` (feature `presets`) | preset files |
 
 pub mod balls;
-pub mod bumps;
 pub mod body_eq;
+pub mod bumps;
 pub mod crowd;
 pub mod engine_mix;
 pub mod events;
