@@ -25,3 +25,16 @@ pub fn sanitize_sample_rate(sample_rate_hz: f64) -> f64 {
         48_000.0
     }
 }
+
+/// A sample as it may leave the voice: NaN, infinities and subnormals become 0 (zeros and
+/// normal numbers pass unchanged). Written with comparisons only, so loops over it
+/// vectorize. The voice's last line of defence and the body EQ's output rule.
+#[inline]
+pub fn flush_output(x: f32) -> f32 {
+    let a = x.abs();
+    if (f32::MIN_POSITIVE..=f32::MAX).contains(&a) | (a == 0.0) {
+        x
+    } else {
+        0.0
+    }
+}

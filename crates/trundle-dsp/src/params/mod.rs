@@ -30,6 +30,7 @@ pub mod choice;
 pub mod place;
 mod table;
 mod text;
+mod values;
 
 pub use choice::{
     AsymmetryLaw, BallMaterial, Engine, GestureKind, Limiting, Output, ParamEnum, Quality, Shape,

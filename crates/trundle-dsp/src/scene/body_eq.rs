@@ -31,7 +31,7 @@ pub mod design;
 #[cfg(feature = "presets")]
 pub mod json;
 
-use crate::block::{CHUNK, FLUSH_THRESHOLD};
+use crate::block::{flush_output, CHUNK, FLUSH_THRESHOLD};
 use crate::params::{ParamId, Params};
 use crate::smooth::Smoother;
 use crate::stage::Stage;
@@ -223,18 +223,6 @@ fn interpolate(bands_hz: &[f64], gain_db: &[f64], f: f64) -> f64 {
     let j = bands_hz.partition_point(|&b| b <= f) - 1;
     let t = (f / bands_hz[j]).ln() / (bands_hz[j + 1] / bands_hz[j]).ln();
     gain_db[j] + t * (gain_db[j + 1] - gain_db[j])
-}
-
-/// A sample as it may leave the voice: NaN, infinities and subnormals become 0 (the voice's
-/// output rule).
-#[inline]
-fn flush_output(x: f32) -> f32 {
-    let a = x.abs();
-    if (f32::MIN_POSITIVE..=f32::MAX).contains(&a) | (a == 0.0) {
-        x
-    } else {
-        0.0
-    }
 }
 
 /// Filter state of one channel: the two past values at each of the cascade's

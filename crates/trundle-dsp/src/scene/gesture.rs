@@ -79,9 +79,8 @@ pub const SPIN_MAX_HZ: f64 = 1_000.0;
 pub const SPIN_GAIN: f64 = 0.35;
 /// Relative seeded variation of the spin's contact strengths.
 pub const SPIN_JITTER: f64 = 0.25;
-/// Series-amplitude equivalent of a seam crossed at 1 m/s with depth 1: at the default depth
-/// (0.5) and speed a seam knocks at 2.5× the roll's median 10 ms peak (`tests/gestures.rs`;
-/// 1.5 gave 1.4×: lost among the roll's own peaks).
+/// Series-amplitude equivalent of a seam crossed at 1 m/s with depth 1 (`tests/gestures.rs`:
+/// a default seam knocks at 2.5× the roll's median 10 ms peak; 1.5 gave 1.4×).
 pub const JOINT_GAIN: f64 = 5.0;
 
 /// Grains of loose grit per metre of path at `grit` = 1.

@@ -31,7 +31,7 @@
 //! the same seed and parameters give the same samples whether rendered in blocks of 1 or
 //! 8192.
 
-use crate::block::CHUNK;
+use crate::block::{flush_output, CHUNK};
 use crate::object::fitted::LoadedObject;
 use crate::object::resonator::{Object, ObjectControls};
 use crate::params::{ParamId, Params};
@@ -691,24 +691,10 @@ impl Voice {
                     (1.0 - x) * self.side[i],
                 )
             };
-            // Last line of defence: never hand a host NaN, infinity or a subnormal (the
-            // object's state is flushed, but the force output — a low-pass tail — and a
-            // tiny gain can reach the subnormal range; a validator found −4·10⁻⁴⁰).
+            // Last line of defence: no NaN, infinity or subnormal for a host (a force tail
+            // and a tiny gain can reach the subnormal range: a validator found −4·10⁻⁴⁰).
             self.sound[i] = flush_output(g * y);
             self.side[i] = flush_output(g * side);
         }
-    }
-}
-
-/// A sample as it may leave the voice: NaN, infinities and subnormals become 0 (zeros and
-/// normal numbers pass unchanged). Written with comparisons only, so loops over it
-/// vectorize.
-#[inline]
-fn flush_output(x: f32) -> f32 {
-    let a = x.abs();
-    if (f32::MIN_POSITIVE..=f32::MAX).contains(&a) | (a == 0.0) {
-        x
-    } else {
-        0.0
     }
 }

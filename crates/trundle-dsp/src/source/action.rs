@@ -41,22 +41,6 @@
 //! * **Loudness of blends.** Mixing densities makes a blend much sparser than its anchors'
 //!   loudness suggests; blends are scaled to the loudness interpolated in dB between the
 //!   anchors (an analytic estimate of the force power, capped at ±20 dB), 1 at the anchors.
-//!   The estimate is of the **bed**: each impact's energy counts at most
-//!   [`LEVEL_ENERGY_CAP`] times the median impact's. Near an anchor a blend is that anchor's
-//!   impacts with a few of its neighbour's among them (a scratch click every ~30 roll
-//!   impacts just off the roll corner); counted whole, those rare loud clicks set the
-//!   blend's power and the compensation ducked the roll under them (−9.5 dB for 100 ms as
-//!   `roll-scrape-rub-morph` left the roll corner, mean of 8 seeds). A listener hears the
-//!   bed's level and the clicks as events on it.
-//! * **Colour of blends.** The ARMA filters (the roll's alone: rub and scratch have C = 0)
-//!   fade in with the roll weight as the amplitude floor does, C = w_roll⁸·C_roll, not
-//!   linearly. Near the roll corner a few friction draws join the roll's, and the roll's
-//!   filter (DC gain ≈ 20, pole 0.93–0.97) turned each into ~30 impacts of extra gap (a
-//!   40 ms scratch interval) or of huge amplitudes: leaving the corner, a morph fell
-//!   silent for 100 ms and then clicked (−9.4 dB in 100 ms windows, mean of 16 seeds, at
-//!   the start of `roll-scrape-rub-morph`'s roll → scratch). With the fade the gain at
-//!   w_roll = 0.97 is ≈ 5 and the departure stays within the roll's own swing
-//!   (`tests/action.rs`); at the anchor the filter is the roll's, unchanged.
 //! * **Signs.** Rubbing and scratching forces are zero-mean (negative amplitudes exist);
 //!   rolling amplitudes are floored at [`crate::source::series::A_MIN`] (the rule of
 //!   [`crate::source::series`]). In a blend the floor fades in with the roll weight,
@@ -88,21 +72,15 @@ pub struct ActionStep {
 /// Draws of the private generator behind a blend's loudness compensation.
 pub const LEVEL_DRAWS: usize = 1500;
 
-/// A loud impact counts in a blend's loudness with at most this many times the median
-/// impact's energy (module docs, "Loudness of blends": the bed, not the rare click).
-pub const LEVEL_ENERGY_CAP: f64 = 10.0;
-
-/// The AC power (up to a constant) of the bed of the pulse train `p` makes, estimated from
+/// The AC power (up to a constant) of the pulse train `p` makes, estimated from
 /// [`LEVEL_DRAWS`] impacts of a private generator (fixed seed) whose innovations come from
 /// `draw(u, w)` (u = Φ(w), w standard normal, as [`ActionSeries`] draws them): by Campbell,
 /// Σ(g·A)²·E_p(t₀) / ΣΔ − (Σ g·A·area(t₀) / ΣΔ)², with the rolling floor, the ARMA filters,
 /// the pulse law and its widening of narrow pulses applied as the series and the pulse
-/// train apply them, and each impact's energy capped at [`LEVEL_ENERGY_CAP`] times the
-/// median impact's (its area scaled alike). `scratch` holds the impacts (no allocation).
+/// train apply them.
 fn draws_power(
     p: &ActionParams,
     sample_rate_hz: f64,
-    scratch: &mut [(f64, f64)],
     mut draw: impl FnMut(f64, f64) -> (f64, f64),
 ) -> f64 {
     let mut rng = SmallRng::seed_from_u64(0x5EED_1E7E);
@@ -111,9 +89,8 @@ fn draws_power(
     let (mut ca, mut cd, mut pa, mut pd) = (0.0, 0.0, 0.0, 0.0);
     let floor = p.floor_weight();
     let min_width = 2.0 / sample_rate_hz.max(1.0);
-    let mut time = 0.0;
-    let draws = scratch.len();
-    for k in 0..draws + 64 {
+    let (mut energy, mut area, mut time) = (0.0, 0.0, 0.0);
+    for k in 0..LEVEL_DRAWS + 64 {
         let wn: f64 = StandardNormal.sample(&mut rng);
         let (xa, xd) = draw(normal_cdf(wn), wn);
         ca = -aa * ca + xa + ba * pa;
@@ -135,24 +112,9 @@ fn draws_power(
         // pulse is widened to two samples keeping its area).
         let zw = z.max(min_width);
         let hw = h * z / zw;
-        let energy = 0.375 * hw * hw * zw;
-        scratch[k - 64] = (if energy.is_finite() { energy } else { 0.0 }, 0.5 * h * z);
+        energy += 0.375 * hw * hw * zw;
+        area += 0.5 * h * z;
         time += dt;
-    }
-    // The bed: a rare loud impact (a scratch click in a nearly pure roll) would otherwise
-    // set the whole blend's level and duck every other impact under it.
-    let mid = draws / 2;
-    scratch.select_nth_unstable_by(mid, |x, y| x.0.total_cmp(&y.0));
-    let cap = LEVEL_ENERGY_CAP * scratch[mid].0;
-    let (mut energy, mut area) = (0.0, 0.0);
-    for &(e, a) in scratch.iter() {
-        if e > cap && e > 0.0 {
-            energy += cap;
-            area += a * (cap / e).sqrt();
-        } else {
-            energy += e;
-            area += a;
-        }
     }
     let t = time.max(1e-12);
     (energy / t - (area / t) * (area / t)).max(0.0)
@@ -198,8 +160,6 @@ pub struct ActionSeries {
     prev_xa: f64,
     prev_xdt: f64,
     rebuilds: u64,
-    /// The impacts of a loudness estimate (allocated once, [`LEVEL_DRAWS`] long).
-    level_scratch: Vec<(f64, f64)>,
 }
 
 impl ActionSeries {
@@ -224,7 +184,6 @@ impl ActionSeries {
             prev_xa: 0.0,
             prev_xdt: 0.0,
             rebuilds: 0,
-            level_scratch: vec![(0.0, 0.0); LEVEL_DRAWS],
         };
         s.set_params(params);
         s.reset();
@@ -302,7 +261,7 @@ impl ActionSeries {
             return;
         }
         let p = self.params;
-        let here = draws_power(&p, self.anchor_fs, &mut self.level_scratch, |u, wn| {
+        let here = draws_power(&p, self.anchor_fs, |u, wn| {
             (
                 match self.pure_a {
                     Some(d) => d.sample(wn),
@@ -325,9 +284,8 @@ impl ActionSeries {
                     a.amplitude.single().expect("pure"),
                     a.interval_s.single().expect("pure"),
                 );
-                self.anchor_power[i] = draws_power(&a, key[2], &mut self.level_scratch, |_, wn| {
-                    (da.sample(wn), dd.sample(wn))
-                });
+                self.anchor_power[i] =
+                    draws_power(&a, key[2], |_, wn| (da.sample(wn), dd.sample(wn)));
             }
             self.anchor_key = key;
         }

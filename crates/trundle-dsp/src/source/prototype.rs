@@ -160,16 +160,6 @@ impl ActionParams {
     /// as a mixture.
     pub fn blend(w: [f64; 3], p: &[Prototype; 3], sample_rate_hz: f64) -> Self {
         let lin = |f: &dyn Fn(&Prototype) -> f64| -> f64 { (0..3).map(|i| w[i] * f(&p[i])).sum() };
-        let fade = w[2].powi(8);
-        let colour = |f: &dyn Fn(&Prototype) -> (f64, f64)| -> (f64, f64) {
-            let (mut a, mut b) = (0.0, 0.0);
-            for (i, q) in p.iter().enumerate() {
-                let wi = if i == 2 { fade } else { w[i] };
-                a += wi * f(q).0;
-                b += wi * f(q).1;
-            }
-            (a, b)
-        };
         let friction = w[0] + w[1];
         let fz = friction_zeta_s(0.1);
         let friction_gain = if friction > 0.0 {
@@ -181,10 +171,8 @@ impl ActionParams {
             weights: w,
             zeta_s: lin(&|q| q.zeta_s),
             theta: lin(&|q| q.theta),
-            // The colour fades in with the roll weight as the floor does (w_roll⁸, module docs
-            // of `action`, "Colour of blends"); rub and scratch have none.
-            filter_a: colour(&|q| q.filter_a),
-            filter_dt: colour(&|q| q.filter_dt),
+            filter_a: (lin(&|q| q.filter_a.0), lin(&|q| q.filter_a.1)),
+            filter_dt: (lin(&|q| q.filter_dt.0), lin(&|q| q.filter_dt.1)),
             mean_a: lin(&|q| q.mean_a),
             mean_dt_s: lin(&|q| q.mean_dt_s),
             amplitude: Mixture {

@@ -107,17 +107,7 @@ impl Object {
                 self.info[k].side = 0.0;
                 continue;
             }
-            // A shell's doublet members (cos nθ, sin nθ, 1.5 % apart: they respond together)
-            // are excited with the magnitude of their shape at the ball, as the pickups hear
-            // them: with signs, a pair whose members the ball drives with opposite signs
-            // summed to L and R of opposite signs and cancelled in the mono sum (−5.8 dB at
-            // 1.26 kHz in `coin-in-glass-bowl`).
-            let phi = self.ball_shapes.phi(mode);
-            let e = if shape == Shape::Shell {
-                phi.abs()
-            } else {
-                phi
-            };
+            let e = self.ball_shapes.phi(mode);
             let [ql, qr] = self.pick[k];
             let mid = 0.5 * (ql + qr);
             let x = a * e * mid;
