@@ -38,3 +38,28 @@ pub fn flush_output(x: f32) -> f32 {
         0.0
     }
 }
+
+/// SplitMix64 (Steele, Lea & Flood 2014): the 64-bit mix of `z` + the golden gamma. The
+/// deterministic, allocation-free generator of the stages that draw their own randomness.
+#[inline]
+pub fn splitmix64(z: u64) -> u64 {
+    let mut z = z.wrapping_add(0x9e37_79b9_7f4a_7c15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^ (z >> 31)
+}
+
+/// The next draw of a SplitMix64 generator whose state is `state` (advanced by the golden
+/// gamma).
+#[inline]
+pub fn splitmix_next(state: &mut u64) -> u64 {
+    let z = splitmix64(*state);
+    *state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+    z
+}
+
+/// The next SplitMix64 draw as a uniform value in [0, 1) (53 bits).
+#[inline]
+pub fn splitmix_uniform(state: &mut u64) -> f64 {
+    (splitmix_next(state) >> 11) as f64 / (1u64 << 53) as f64
+}

@@ -63,7 +63,9 @@
 //!   and `modes` are ignored (no mode shapes, no series). At the parameters' defaults the
 //!   object plays exactly as fitted.
 
+// SplitMix64: the deterministic side units and signs.
 use crate::analysis::third_octave::{band_centre_hz, band_index, BANDS};
+use crate::block::splitmix64 as mix;
 use std::sync::Arc;
 
 /// One fitted mode: aₖ·e^{−t/τₖ}·cos(2πfₖt + φₖ), t in seconds from the start of the free
@@ -346,14 +348,6 @@ pub fn spectrum_span(fit_duration_s: f64, sample_rate_hz: f64) -> usize {
         SPECTRUM_SPAN_S
     };
     (span * sample_rate_hz).ceil() as usize
-}
-
-/// SplitMix64: the deterministic side units and signs.
-fn mix(mut z: u64) -> u64 {
-    z = z.wrapping_add(0x9e37_79b9_7f4a_7c15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^ (z >> 31)
 }
 
 fn unit(z: u64) -> f64 {

@@ -177,11 +177,7 @@ impl Micro {
 
     /// A uniform value in [−1, 1) (SplitMix64).
     fn uniform(&mut self) -> f32 {
-        self.rng = self.rng.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.rng;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^= z >> 31;
+        let z = crate::block::splitmix_next(&mut self.rng);
         ((z >> 40) as f32) * (2.0 / (1u64 << 24) as f32) - 1.0
     }
 
