@@ -2,7 +2,8 @@
 //!
 //! ```text
 //! KNOCK.wav|flac|ogg ─► mono, full scale ±1 ─► trundle_dsp::fit::fit_strike
-//!   (checks, band-split ESPRIT, amplitudes, residual envelope) ─► object file (JSON v1)
+//!   (checks, band-split ESPRIT, decays refined unless --no-refine, amplitudes solved
+//!   jointly, residual envelope) ─► object file (JSON v2)
 //! ```
 //!
 //! A recording that is not one decaying strike (silence, noise, clipped, too short, several
@@ -19,7 +20,7 @@ use serde_json::json;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use trundle_dsp::fit::explained::{explained_by_band, is_poor, poor_fit_message, BandExplained};
-use trundle_dsp::fit::{fit_strike, json::to_json, resynthesize, FittedObject};
+use trundle_dsp::fit::{fit_strike_with, json::to_json, resynthesize, FitOptions, FittedObject};
 use trundle_dsp::object::fitted::{LoadedObject, ObjectFile};
 use trundle_dsp::scene::impulse::impulse_response;
 use trundle_io::recording::read_recording;
@@ -44,6 +45,10 @@ pub struct FitObjectArgs {
     /// re the recording), which is otherwise refused (exit code 2).
     #[arg(long)]
     pub keep_poor_fit: bool,
+    /// Skip the decays' refinement over the whole ring (ESPRIT's decays, no stated
+    /// uncertainty): faster (docs/guide/fitting.md gives what it costs and earns).
+    #[arg(long)]
+    pub no_refine: bool,
     /// Print the summary as JSON.
     #[arg(long)]
     pub json: bool,
@@ -53,10 +58,18 @@ pub struct FitObjectArgs {
     pub plot: Option<PathBuf>,
 }
 
-/// Decode and fit a recording; errors name the file.
+/// Decode and fit a recording (the default options); errors name the file.
 pub fn fit_file(path: &Path) -> Result<(FittedObject, Vec<f64>, usize), CliError> {
+    fit_file_with(path, FitOptions::default())
+}
+
+/// [`fit_file`] with explicit options.
+pub fn fit_file_with(
+    path: &Path,
+    options: FitOptions,
+) -> Result<(FittedObject, Vec<f64>, usize), CliError> {
     let rec = read_recording(path)?;
-    let fit = fit_strike(&rec.samples, rec.sample_rate_hz)
+    let fit = fit_strike_with(&rec.samples, rec.sample_rate_hz, options)
         .map_err(|e| input(format!("{}: {e}", quote(&path.display().to_string()))))?;
     Ok((fit, rec.samples, rec.channels))
 }
@@ -86,7 +99,10 @@ pub fn run(args: &FitObjectArgs) -> Result<String, CliError> {
     if let Some(p) = &args.plot {
         check_destination(p, "--plot", args.force)?;
     }
-    let (fit, samples, channels) = fit_file(&args.file)?;
+    let options = FitOptions {
+        refine_decays: !args.no_refine,
+    };
+    let (fit, samples, channels) = fit_file_with(&args.file, options)?;
     let source = args
         .file
         .file_name()

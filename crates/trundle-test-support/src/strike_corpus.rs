@@ -91,6 +91,8 @@ pub struct Row {
     pub verdict: Verdict,
     /// The fit's residual energy relative to the recording (dB, the object file's).
     pub residual_db: f64,
+    /// Wall-clock time of the `fit-object` run(s) (s; the test's build profile).
+    pub fit_s: f64,
     /// `fit-object` refused the fit as explaining nothing (it was then written with
     /// `--keep-poor-fit` to be judged all the same).
     pub refused: bool,
@@ -103,15 +105,18 @@ impl Row {
     }
 }
 
+/// A strike's name as a file stem (`wood-block--high`).
+pub fn stem(name: &str) -> String {
+    name.chars()
+        .map(|c| if c.is_ascii_alphanumeric() { c } else { '-' })
+        .collect()
+}
+
 /// Fit `strike` and judge its impulse response, working in `dir`; extra `fit-object`
 /// arguments in `fit_args`. Panics with the command's message when a step fails.
 pub fn measure(dir: &Path, strike: &Strike, fit_args: &[&str]) -> Row {
     let (x, fs) = load(strike);
-    let stem: String = strike
-        .name
-        .chars()
-        .map(|c| if c.is_ascii_alphanumeric() { c } else { '-' })
-        .collect();
+    let stem = stem(strike.name);
     let wav = dir.join(format!("{stem}.wav"));
     write_wav(&wav, fs, 1, &x);
     let object = dir.join(format!("{stem}.object.json"));
@@ -123,12 +128,14 @@ pub fn measure(dir: &Path, strike: &Strike, fit_args: &[&str]) -> Row {
         "--force",
     ];
     args.extend_from_slice(fit_args);
+    let clock = std::time::Instant::now();
     let mut o = cli::run(dir, &args);
     let refused = o.status.code() == Some(2) && cli::stderr(&o).contains("explains nothing");
     if refused {
         args.push("--keep-poor-fit");
         o = cli::run(dir, &args);
     }
+    let fit_s = clock.elapsed().as_secs_f64();
     assert!(
         o.status.success(),
         "{}: fit-object failed: {}",
@@ -178,6 +185,7 @@ pub fn measure(dir: &Path, strike: &Strike, fit_args: &[&str]) -> Row {
         name: strike.name,
         verdict: judge(rec, &y, f64::from(fs)),
         residual_db,
+        fit_s,
         refused,
     }
 }
@@ -207,8 +215,9 @@ pub fn table(rows: &[Row]) -> String {
     }
     let pass = rows.iter().filter(|r| r.pass()).count();
     s.push_str(&format!(
-        "\n{pass} of {} strikes inside all three limits\n",
-        rows.len()
+        "\n{pass} of {} strikes inside all three limits; fit-object took {:.1} s in all\n",
+        rows.len(),
+        rows.iter().map(|r| r.fit_s).sum::<f64>()
     ));
     s
 }

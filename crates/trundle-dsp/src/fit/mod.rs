@@ -8,6 +8,7 @@
 //!      ─► the poles refined jointly over the whole ring (variable projection,
 //!         Levenberg–Marquardt; each decay's standard uncertainty) ─► least-squares
 //!         complex amplitudes ─► modes in [lo, hi)
+//!   ─► all amplitudes re-solved jointly, full band, over the whole decay (poles fixed)
 //!   ─► modes (f, τ ± sd, amplitude, phase) ─► resynthesis ─► residual
 //!   ─► the residual's third-octave envelope (level, decay): the full-band part
 //! ```
@@ -17,8 +18,9 @@
 //! keeps each eigenproblem small (L ≤ 160) whatever the sample rate and the number of modes
 //! (the approach of sub-band ESPRIT in Laroche 1993 and Badeau et al. 2006). See
 //! [`bands`] (band splitting), [`subspace`] (ESPRIT and the order rule), [`refine`] (the
-//! decays over the whole ring, without the short window's bias, and their uncertainty)
-//! and [`explained`] (how much of the recording the fit explains, band by band).
+//! decays over the whole ring, without the short window's bias, and their uncertainty),
+//! [`joint`] (every amplitude solved at once on the recording, so close modes' skirts
+//! cancel) and [`explained`] (how much of the recording the fit explains, band by band).
 //!
 //! A mode k is the real damped sinusoid aₖ·e^{−t/τₖ}·cos(2πfₖt + φₖ), t from the start of
 //! the free decay (the strike's peak: the attack before it is the contact force, which
@@ -29,6 +31,7 @@ pub mod cmaes;
 pub mod deconvolve;
 pub mod envelope;
 pub mod explained;
+pub mod joint;
 #[cfg(feature = "presets")]
 pub mod json;
 pub mod refine;
@@ -153,7 +156,10 @@ fn frame_db(x: &[f64], fs: f64) -> (Vec<f64>, usize) {
 
 /// The checks of a strike; returns (start of the free decay, end) in samples: the start is
 /// the strike's peak within 20 ms of its onset (the contact is over), the end where the
-/// decay reaches the noise floor.
+/// decay reaches the noise floor. A quieter pre-sound before the strike (a frame 20 ms or
+/// more after the first sound that jumps [`ONSET_RISE_DB`] over all before it, up to the
+/// loudest frame: a music box's mechanism, a previous ring) is left out: the onset is
+/// that jump.
 pub fn check_strike(x: &[f64], sample_rate_hz: f64) -> Result<(usize, usize), FitError> {
     let fs = sample_rate_hz;
     if !(fs.is_finite()
@@ -215,6 +221,18 @@ pub fn check_strike(x: &[f64], sample_rate_hz: f64) -> Result<(usize, usize), Fi
             fall_db: lmax - floor,
         });
     }
+    // A pre-sound: a frame at least 20 ms after the onset that jumps ONSET_RISE_DB over
+    // every frame before it (the overlapping frame just before excepted), up to the loudest
+    // frame, is where the strike starts; what came before it (a music box's pin lifting
+    // the tooth, a previous ring) is not part of the strike and is left out.
+    let settle = ((0.02 * fs) as usize).div_ceil(hop).max(2);
+    let mut attack_from = onset;
+    for i in settle..=fmax {
+        let before = db[..i - 1].iter().fold(f64::NEG_INFINITY, |a, &v| a.max(v));
+        if db[i] - before >= ONSET_RISE_DB {
+            attack_from = onset + (i - 1) * hop;
+        }
+    }
     let window = ((0.1 * fs) as usize / hop).max(1);
     for i in fmax + 1..db.len() {
         let recent = db[i.saturating_sub(window)..i]
@@ -239,7 +257,7 @@ pub fn check_strike(x: &[f64], sample_rate_hz: f64) -> Result<(usize, usize), Fi
     // The free decay starts at the strike's peak (the contact has ended by then): the
     // modes are fitted, and referred, from there.
     let attack = (0.02 * fs) as usize;
-    let free = x[onset..(onset + attack).min(end)]
+    let free = x[attack_from..(attack_from + attack).min(end)]
         .iter()
         .enumerate()
         .fold(
@@ -247,7 +265,7 @@ pub fn check_strike(x: &[f64], sample_rate_hz: f64) -> Result<(usize, usize), Fi
             |a, (i, v)| if v.abs() > a.1 { (i, v.abs()) } else { a },
         )
         .0
-        + onset;
+        + attack_from;
     if (end - free) as f64 / fs < MIN_SECONDS {
         return Err(FitError::TooShort {
             seconds: (end - free) as f64 / fs,
@@ -283,11 +301,40 @@ pub fn residual_db(x: &[f64], y: &[f64]) -> f64 {
     10.0 * (e / s.max(1e-300)).max(1e-30).log10()
 }
 
-/// Fit one recorded strike (mono, full scale ±1): the modal analysis of the module docs.
+/// How [`fit_strike_with`] fits.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct FitOptions {
+    /// Refine each band's poles over the whole ring ([`refine`]; decays without the short
+    /// window's bias, and their uncertainty). Off: ESPRIT's poles, no `decay_sd_s`.
+    pub refine_decays: bool,
+}
+
+impl Default for FitOptions {
+    fn default() -> Self {
+        Self {
+            refine_decays: true,
+        }
+    }
+}
+
+/// Fit one recorded strike (mono, full scale ±1): the modal analysis of the module docs,
+/// with the default [`FitOptions`].
 ///
 /// # Allocation
 /// Allocates freely (an offline analysis; never call it on the audio thread).
 pub fn fit_strike(x: &[f64], sample_rate_hz: f64) -> Result<FittedObject, FitError> {
+    fit_strike_with(x, sample_rate_hz, FitOptions::default())
+}
+
+/// [`fit_strike`] with explicit options.
+///
+/// # Allocation
+/// Allocates freely (an offline analysis; never call it on the audio thread).
+pub fn fit_strike_with(
+    x: &[f64],
+    sample_rate_hz: f64,
+    options: FitOptions,
+) -> Result<FittedObject, FitError> {
     let fs = sample_rate_hz;
     let (onset, end) = check_strike(x, fs)?;
     let peak = x.iter().fold(0.0f64, |a, v| a.max(v.abs()));
@@ -295,7 +342,7 @@ pub fn fit_strike(x: &[f64], sample_rate_hz: f64) -> Result<FittedObject, FitErr
     let hi = MAX_MODE_HZ.min(0.45 * fs);
     let mut modes = Vec::new();
     for band in bands::layout(MIN_MODE_HZ, hi) {
-        modes.extend(fit_band(sig, fs, band));
+        modes.extend(fit_band(sig, fs, band, options.refine_decays));
     }
     // Drop modes far under the strongest (energy a²τ).
     let strongest = modes.iter().fold(0.0f64, |a, m: &FitMode| {
@@ -304,9 +351,31 @@ pub fn fit_strike(x: &[f64], sample_rate_hz: f64) -> Result<FittedObject, FitErr
     let floor = strongest * 10f64.powf(MODE_FLOOR_DB / 10.0);
     modes.retain(|m| m.amplitude * m.amplitude * m.decay_s >= floor);
     modes.sort_by(|a, b| a.freq_hz.total_cmp(&b.freq_hz));
-    let model = resynthesize(&modes, fs, sig.len());
+    let mut model = resynthesize(&modes, fs, sig.len());
+    let mut residual_db = residual_db(sig, &model);
+    // Where the bands' amplitudes overshoot a third-octave band of the recording by
+    // `joint::OVERSHOOT_DB` or more (skirts that do not cancel), the amplitudes of all
+    // modes are solved jointly over the whole decay (`joint`), and kept when they explain
+    // more of it.
+    if modes.len() <= joint::MAX_MODES
+        && joint::overshoot_db(sig, &model, fs) >= joint::OVERSHOOT_DB
+    {
+        if let Some(mut j) = joint::solve(sig, &modes, fs) {
+            let strongest = j.iter().fold(0.0f64, |a, m: &FitMode| {
+                a.max(m.amplitude * m.amplitude * m.decay_s)
+            });
+            let floor = strongest * 10f64.powf(MODE_FLOOR_DB / 10.0);
+            j.retain(|m| m.amplitude * m.amplitude * m.decay_s >= floor);
+            let y = resynthesize(&j, fs, sig.len());
+            let r = self::residual_db(sig, &y);
+            if r < residual_db && j.iter().all(|m| m.amplitude <= peak.max(1e-9) * 100.0) {
+                modes = j;
+                model = y;
+                residual_db = r;
+            }
+        }
+    }
     let residual: Vec<f64> = sig.iter().zip(&model).map(|(a, b)| a - b).collect();
-    let residual_db = residual_db(sig, &model);
     let envelope = third_octave_envelope(&residual, sig, fs);
     // The recording's own spectrum, by the measure the player compares the played modes
     // with (`analysis::third_octave::band_energies`).
@@ -336,7 +405,7 @@ pub fn fit_strike(x: &[f64], sample_rate_hz: f64) -> Result<FittedObject, FitErr
 
 /// The modes of one band: ESPRIT on the band signal, poles mapped back to full rate,
 /// amplitudes corrected for the filter's gain at the pole, modes outside [lo, hi) dropped.
-fn fit_band(sig: &[f64], fs: f64, band: bands::Band) -> Vec<FitMode> {
+fn fit_band(sig: &[f64], fs: f64, band: bands::Band, refine_decays: bool) -> Vec<FitMode> {
     let Some(bs) = bands::BandSignal::new(sig, fs, band, BAND_SAMPLES) else {
         return vec![];
     };
@@ -364,7 +433,10 @@ fn fit_band(sig: &[f64], fs: f64, band: bands::Band) -> Vec<FitMode> {
         .filter(|z| z.norm() > 0.0 && z.norm() < 1.0)
         .collect();
     let free: Vec<bool> = all_decaying.iter().map(in_band).collect();
-    if let Some(long) = bands::BandSignal::new(sig, fs, band, refine::REFINE_SAMPLES) {
+    let long = refine_decays
+        .then(|| bands::BandSignal::new(sig, fs, band, refine::REFINE_SAMPLES))
+        .flatten();
+    if let Some(long) = long {
         let y = &long.samples[long.start..];
         let power: Vec<f64> = y.iter().map(|v| v.norm_sqr()).collect();
         let peak = power.iter().fold(0.0f64, |a, &v| a.max(v));
