@@ -50,6 +50,9 @@
 //!   to the host (CLAP note end).
 //!   Notes are applied at their exact sample position (the block is split there) and play
 //!   whether or not the transport runs — a keyboard is live.
+//! * **Body EQ**: a preset's (or a `trundle match` output's) body EQ curve plays on the
+//!   output, scaled by the `body_eq` amount, as `trundle render` plays it
+//!   ([`body_eq_slot`]; saved with the state and with user presets).
 //! * **State**: see [`params`] — older states are migrated, newer or corrupt ones rejected
 //!   (defaults, logged reason), every value validated before it is applied.
 
@@ -60,9 +63,11 @@ use trundle_dsp::scene::limiter::{Limiter, Limiting};
 use trundle_dsp::scene::stop::slow_down;
 use trundle_dsp::{ParamId, Voice};
 
+pub mod body_eq_slot;
 pub mod compare;
 pub mod editor;
 pub mod expression;
+pub mod handoff;
 pub mod meter;
 pub mod object_slot;
 pub mod params;
@@ -115,6 +120,8 @@ pub struct Trundle {
     stop_speed: f64,
     /// The [`object_slot::ObjectSlot`] generation the voice plays.
     object_generation: u64,
+    /// The [`body_eq_slot::BodyEqSlot`] generation the voice plays.
+    body_eq_generation: u64,
 }
 
 impl Default for Trundle {
@@ -135,6 +142,7 @@ impl Default for Trundle {
             rolling: false,
             stop_speed: 0.0,
             object_generation: u64::MAX,
+            body_eq_generation: u64::MAX,
         }
     }
 }
@@ -224,6 +232,8 @@ impl Plugin for Trundle {
         if let Some(v) = &mut self.voice {
             self.object_generation = self.params.object.generation();
             drop(v.set_loaded_object(self.params.object.load(self.object_generation)));
+            self.body_eq_generation = self.params.body_eq.generation();
+            drop(v.set_body_eq(self.params.body_eq.load(self.body_eq_generation)));
         }
         self.applied = None;
         // A few hundred samples of delay line: cheap to build at every activation. Its
@@ -277,6 +287,13 @@ impl Plugin for Trundle {
         if generation != self.object_generation {
             self.object_generation = generation;
             drop(voice.set_loaded_object(self.params.object.load(generation)));
+        }
+        // Likewise the body EQ curve (the filter is designed here, once per change: fixed
+        // arrays, no allocation; the slot keeps the old curve alive).
+        let generation = self.params.body_eq.generation();
+        if generation != self.body_eq_generation {
+            self.body_eq_generation = generation;
+            drop(voice.set_body_eq(self.params.body_eq.load(generation)));
         }
         let transport = context.transport();
         let rolling =

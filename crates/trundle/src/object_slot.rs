@@ -18,17 +18,13 @@
 //!                                        └─► Voice::set_loaded_object (real-time safe)
 //! ```
 //!
-//! The slot publishes a raw pointer to an object it keeps alive itself: every object it ever
-//! published stays referenced here ("retired") until the audio thread has acknowledged a
-//! later generation (so it can no longer be reading that pointer) and holds no reference of
-//! its own — so the audio thread never frees memory and never reads a freed object. (A
-//! lock-free `Arc` swap crate was tried first: it allocates a per-thread record the first
-//! time a thread reads, which nice-plug's allocation check caught on the audio thread.) The object file's
+//! The hand-over is a [`Handoff`] (the audio thread never frees memory and never reads a
+//! freed object). The object file's
 //! JSON is saved in the plugin's state (field `object`), so a session reopens with the same
 //! object even when the file is gone.
 
+use crate::handoff::Handoff;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicPtr, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use trundle_dsp::object::fitted::{self, LoadedObject, ObjectFile};
 use trundle_io::object_file;
@@ -51,28 +47,14 @@ pub enum FitStatus {
     Failed(String),
 }
 
-#[derive(Default)]
-struct Held {
-    /// The object file (what the state saves), `None` for the recipe object.
-    file: Option<ObjectFile>,
-    /// The published object (keeps the pointee of `published` alive).
-    current: Option<Arc<LoadedObject>>,
-    /// Objects published before, with the generation that replaced them: kept until the
-    /// audio thread has acknowledged that generation and let go of them.
-    retired: Vec<(u64, Arc<LoadedObject>)>,
-}
-
 /// The fitted object slot shared by the plugin, its editor and its state.
 #[derive(Default)]
 pub struct ObjectSlot {
-    /// Main/GUI/fit threads only (never locked by the audio thread).
-    held: Mutex<Held>,
-    /// What the audio thread plays: `Arc::as_ptr` of `held.current`, null for the recipe.
-    published: AtomicPtr<LoadedObject>,
-    /// Bumped after every publish; the audio thread compares it with the one it applied.
-    generation: AtomicU64,
-    /// The last generation the audio thread applied ([`ObjectSlot::load`]).
-    acknowledged: AtomicU64,
+    /// The object file (what the state saves), `None` for the recipe object. Main/GUI/fit
+    /// threads only; held while publishing so the file and the object played agree.
+    file: Mutex<Option<ObjectFile>>,
+    /// The prepared object, handed to the audio thread.
+    object: Handoff<LoadedObject>,
     status: Mutex<FitStatus>,
 }
 
@@ -85,42 +67,22 @@ impl ObjectSlot {
             Some(f) => Some(LoadedObject::shared(f.clone())?),
             None => None,
         };
-        let mut held = self.held.lock().unwrap_or_else(|e| e.into_inner());
-        let acknowledged = self.acknowledged.load(Ordering::Acquire);
-        // Objects the audio thread can no longer be reading (it has applied a later
-        // generation) and no longer holds (only this slot references them) can go.
-        held.retired
-            .retain(|(replaced_at, o)| *replaced_at > acknowledged || Arc::strong_count(o) > 1);
-        let next = self.generation.load(Ordering::Relaxed) + 1;
-        let ptr = prepared
-            .as_ref()
-            .map_or(std::ptr::null_mut(), |o| Arc::as_ptr(o).cast_mut());
-        if let Some(old) = std::mem::replace(&mut held.current, prepared) {
-            held.retired.push((next, old));
-        }
-        held.file = file;
-        // The pointer first, then the generation: a reader that sees the new generation
-        // sees the new pointer.
-        self.published.store(ptr, Ordering::Release);
-        self.generation.store(next, Ordering::Release);
+        let mut held = self.file.lock().unwrap_or_else(|e| e.into_inner());
+        self.object.set(prepared);
+        *held = file;
         Ok(())
     }
 
     /// The object file played, if any (a clone: main/GUI thread).
     pub fn file(&self) -> Option<ObjectFile> {
-        self.held
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .file
-            .clone()
+        self.file.lock().unwrap_or_else(|e| e.into_inner()).clone()
     }
 
     /// What the editor shows: the recording a fitted object came from, if one plays.
     pub fn source_name(&self) -> Option<String> {
-        self.held
+        self.file
             .lock()
             .unwrap_or_else(|e| e.into_inner())
-            .file
             .as_ref()
             .map(|f| {
                 if f.source.is_empty() {
@@ -151,27 +113,13 @@ impl ObjectSlot {
 
     /// The generation of the last publish (audio thread: cheap, lock-free).
     pub fn generation(&self) -> u64 {
-        self.generation.load(Ordering::Acquire)
+        self.object.generation()
     }
 
     /// The object of generation `generation` (from [`ObjectSlot::generation`]) to play now,
-    /// acknowledging it (audio thread: lock-free, no allocation).
+    /// acknowledging it (audio thread: lock-free, no allocation; [`Handoff::load`]).
     pub fn load(&self, generation: u64) -> Option<Arc<LoadedObject>> {
-        let ptr = self.published.load(Ordering::Acquire);
-        let object = if ptr.is_null() {
-            None
-        } else {
-            // SAFETY: `ptr` came from `Arc::as_ptr` of an Arc this slot holds (`current`, or
-            // `retired` until a generation after the one that replaced it is acknowledged
-            // below, which happens only after this count is taken), so the pointee is alive
-            // and its count can be incremented and owned here.
-            unsafe {
-                Arc::increment_strong_count(ptr);
-                Some(Arc::from_raw(ptr))
-            }
-        };
-        self.acknowledged.fetch_max(generation, Ordering::Release);
-        object
+        self.object.load(generation)
     }
 
     /// The editor's status line.
@@ -319,47 +267,6 @@ mod tests {
         ] {
             assert!(ObjectSlot::parse(text).is_err(), "{text:?}");
         }
-    }
-
-    #[test]
-    fn the_audio_thread_never_drops_the_last_reference() {
-        let slot = ObjectSlot::default();
-        assert!(slot.load(0).is_none());
-        slot.set(Some(some_object())).unwrap();
-        // What the audio thread holds after applying the publish.
-        let held_by_voice = slot.load(slot.generation()).unwrap();
-        slot.set(None).unwrap();
-        // Not yet acknowledged: the slot keeps its reference, so the voice's drop (when it
-        // lets go of the object) frees nothing on the audio thread.
-        assert!(Arc::strong_count(&held_by_voice) >= 2);
-        assert!(slot.load(slot.generation()).is_none());
-        drop(held_by_voice);
-        // Acknowledged and let go of: the next publish frees it (here, not on audio).
-        slot.set(None).unwrap();
-        assert!(slot.held.lock().unwrap().retired.is_empty());
-    }
-
-    #[test]
-    fn a_reader_between_two_publishes_keeps_a_live_object() {
-        // The audio thread read generation 1's pointer but has not acknowledged anything
-        // newer: the replaced object must stay alive whatever the GUI publishes meanwhile.
-        let slot = ObjectSlot::default();
-        slot.set(Some(some_object())).unwrap();
-        let g1 = slot.generation();
-        let first = slot.load(g1).unwrap();
-        for _ in 0..3 {
-            slot.set(Some(some_object())).unwrap();
-        }
-        assert!(!first.modes().is_empty(), "still alive and readable");
-        assert_eq!(slot.held.lock().unwrap().retired.len(), 3);
-        drop(first);
-        let latest = slot.load(slot.generation()).unwrap();
-        slot.set(None).unwrap();
-        // Everything older than the acknowledged generation and unreferenced is gone; the
-        // one the reader holds stays.
-        let held = slot.held.lock().unwrap();
-        assert_eq!(held.retired.len(), 1);
-        assert!(Arc::ptr_eq(&held.retired[0].1, &latest));
     }
 
     #[test]

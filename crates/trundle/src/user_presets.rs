@@ -28,7 +28,9 @@ use std::collections::BTreeMap;
 use std::fs;
 use std::io;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use trundle_dsp::object::fitted::ObjectFile;
+use trundle_dsp::scene::body_eq::BodyEqCurve;
 use trundle_dsp::scene::preset::Preset;
 use trundle_dsp::Params;
 use trundle_io::preset_file::read_preset_file;
@@ -137,14 +139,15 @@ impl PresetStore {
         read_preset_file(&self.path(file)?).map_err(|e| format!("{file}: {}", e.problem))
     }
 
-    /// Save `params` as a preset named `name` with `description` and `tags`; returns its
-    /// file name. A preset of the same name (the same file) is replaced.
+    /// Save `params` as a preset named `name` with `description` and `tags`, with the fitted
+    /// object and the body EQ curve played (if any); returns its file name. A preset of the same name (the same file) is replaced.
     pub fn save(
         &self,
         name: &str,
         description: &str,
         params: &Params,
         object: Option<ObjectFile>,
+        body_eq: Option<Arc<BodyEqCurve>>,
         tags: &[String],
     ) -> Result<String, String> {
         let name = name.trim();
@@ -156,7 +159,7 @@ impl PresetStore {
             automation: Vec::new(),
             balls: Vec::new(),
             object,
-            body_eq: None,
+            body_eq,
             matched: None,
         };
         fs::create_dir_all(&self.dir)
@@ -365,7 +368,7 @@ mod tests {
         let params = some_params();
         let tags = vec!["Glass".to_string(), "loop".to_string()];
         let file = store
-            .save("My Glass Roll", "a test", &params, None, &tags)
+            .save("My Glass Roll", "a test", &params, None, None, &tags)
             .unwrap();
         assert_eq!(file, "my-glass-roll.json");
         let listing = store.list();
@@ -384,7 +387,7 @@ mod tests {
         assert_eq!(loaded.params, params);
         // Saving under the same name replaces it.
         store
-            .save("my glass roll", "", &Params::default(), None, &[])
+            .save("my glass roll", "", &Params::default(), None, None, &[])
             .unwrap();
         let listing = store.list();
         assert_eq!(listing.presets.len(), 1);
@@ -397,7 +400,7 @@ mod tests {
         let store = scratch("rename");
         let params = some_params();
         let file = store
-            .save("Old", "", &params, None, &["dark".to_string()])
+            .save("Old", "", &params, None, None, &["dark".to_string()])
             .unwrap();
         let new_file = store.rename(&file, "Brand new").unwrap();
         assert_eq!(new_file, "brand-new.json");
@@ -411,7 +414,7 @@ mod tests {
         assert!(store.load(&file).is_err());
         // Renaming onto another preset's file is refused and changes nothing.
         store
-            .save("Other", "", &Params::default(), None, &[])
+            .save("Other", "", &Params::default(), None, None, &[])
             .unwrap();
         assert!(store.rename(&new_file, "other").is_err());
         assert_eq!(store.list().presets.len(), 2);
@@ -425,9 +428,11 @@ mod tests {
     fn delete_removes_the_file_and_its_tags() {
         let store = scratch("delete");
         let a = store
-            .save("A", "", &Params::default(), None, &["x".to_string()])
+            .save("A", "", &Params::default(), None, None, &["x".to_string()])
             .unwrap();
-        store.save("B", "", &Params::default(), None, &[]).unwrap();
+        store
+            .save("B", "", &Params::default(), None, None, &[])
+            .unwrap();
         store.delete(&a).unwrap();
         let listing = store.list();
         assert_eq!(listing.presets.len(), 1);
@@ -443,12 +448,12 @@ mod tests {
         let store = scratch("tags");
         let p = Params::default();
         store
-            .save("Wood table", "", &p, None, &parse_tags("wood, table"))
+            .save("Wood table", "", &p, None, None, &parse_tags("wood, table"))
             .unwrap();
         store
-            .save("Glass bowl", "", &p, None, &parse_tags("Glass  bowl"))
+            .save("Glass bowl", "", &p, None, None, &parse_tags("Glass  bowl"))
             .unwrap();
-        let metal = store.save("Metal tray", "", &p, None, &[]).unwrap();
+        let metal = store.save("Metal tray", "", &p, None, None, &[]).unwrap();
         store.set_tags(&metal, &parse_tags("metal,table")).unwrap();
         let listing = store.list();
         let pick = |text: &str, tag: Option<&str>| -> Vec<String> {
@@ -472,7 +477,7 @@ mod tests {
     fn corrupt_files_are_listed_with_the_reason() {
         let store = scratch("corrupt");
         store
-            .save("Good", "", &Params::default(), None, &[])
+            .save("Good", "", &Params::default(), None, None, &[])
             .unwrap();
         fs::write(store.dir().join("broken.json"), "{ not json").unwrap();
         fs::write(

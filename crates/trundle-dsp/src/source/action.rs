@@ -41,18 +41,32 @@
 //! * **Loudness of blends.** Mixing densities makes a blend much sparser than its anchors'
 //!   loudness suggests; blends are scaled to the loudness interpolated in dB between the
 //!   anchors (an analytic estimate of the force power, capped at ±20 dB), 1 at the anchors.
+//! * **Attribution.** A blend's draw belongs to one anchor: a uniform of a second generator
+//!   (its own, so next to an anchor a blend draws the anchor's normal sequence) picks
+//!   anchor k with probability wₖ (the mixture's weight), and the normal draw is sampled
+//!   through that anchor's density alone (exact, [`Density::sample`]), so the amplitudes
+//!   and intervals follow the mixture exactly. The draw then plays as its anchor plays it:
+//!   a roll draw passes the roll's ARMA filters (its state advances only on roll draws) and
+//!   gets the roll's means, floor, ζ, θ and pulse gain; a rub or scratch draw gets its
+//!   anchor's own (no filter, zero means, ζ_min/ζ gain). Blending the filters instead ran
+//!   the few scratch draws of a nearly pure roll through the roll's filter (DC gain ≈ 20):
+//!   each became ~30 impacts of extra gap or of huge amplitude, the loudness compensation
+//!   ducked the roll under them, and `roll-scrape-rub-morph` dipped 8–9 dB for ~100 ms as
+//!   it left the roll corner (mean of 8 seeds). Each step carries its anchor
+//!   ([`ActionStep::anchor`]); [`ActionParams::pulse_of`] gives its pulse. At a pure anchor
+//!   nothing changes: one normal draw per impact, the set's own filter.
 //! * **Signs.** Rubbing and scratching forces are zero-mean (negative amplitudes exist);
 //!   rolling amplitudes are floored at [`crate::source::series::A_MIN`] (the rule of
-//!   [`crate::source::series`]). In a blend the floor fades in with the roll weight,
-//!   A ← A + w_roll⁸·max(A_MIN − A, 0): continuous, whole at the roll anchor, negligible
-//!   away from it (a linear fade would lift the scratch prototype's large negative
-//!   amplitudes and bias every blend's mean). Intervals are
+//!   [`crate::source::series`]). In a blend the floor applies to the roll's draws, faded
+//!   in with the roll weight, A ← A + w_roll⁸·max(A_MIN − A, 0): continuous, whole at the
+//!   roll anchor; the friction draws keep their zero-mean forces. Intervals are
 //!   floored at min(one sample, [`crate::source::series::INTERVAL_MIN_S`]).
 
 use crate::source::density::{normal_cdf, Density, QuantileTable};
 use crate::source::prototype::{roll, rub, scratch, ActionParams};
 use crate::source::series::A_MIN;
 use rand::rngs::SmallRng;
+use rand::Rng;
 use rand::SeedableRng;
 use rand_distr::{Distribution, StandardNormal};
 
@@ -67,47 +81,53 @@ pub struct ActionStep {
     pub raw_amplitude: f64,
     /// Unfloored interval (seconds).
     pub raw_interval_s: f64,
+    /// The anchor the draw is attributed to (0 rub, 1 scratch, 2 roll; module docs,
+    /// "Attribution"): its pulse is [`ActionParams::pulse_of`] this.
+    pub anchor: usize,
 }
+
+/// Mixed into a seed for the generator that attributes a blend's draws to anchors (kept
+/// apart from the normal draws: next to an anchor a blend draws the anchor's sequence).
+const PICK_SALT: u64 = 0x9E37_79B9_7F4A_7C15;
 
 /// Draws of the private generator behind a blend's loudness compensation.
 pub const LEVEL_DRAWS: usize = 1500;
 
 /// The AC power (up to a constant) of the pulse train `p` makes, estimated from
 /// [`LEVEL_DRAWS`] impacts of a private generator (fixed seed) whose innovations come from
-/// `draw(u, w)` (u = Φ(w), w standard normal, as [`ActionSeries`] draws them): by Campbell,
+/// `draw(u, w, v)` (u = Φ(w), w standard normal, v uniform: as [`ActionSeries`] draws them;
+/// it returns the whitened amplitude, interval and the anchor of the draw): by Campbell,
 /// Σ(g·A)²·E_p(t₀) / ΣΔ − (Σ g·A·area(t₀) / ΣΔ)², with the rolling floor, the ARMA filters,
 /// the pulse law and its widening of narrow pulses applied as the series and the pulse
-/// train apply them.
+/// train apply them (a blend's draws attributed, module docs).
 fn draws_power(
     p: &ActionParams,
     sample_rate_hz: f64,
-    mut draw: impl FnMut(f64, f64) -> (f64, f64),
+    mut draw: impl FnMut(f64, f64, f64) -> (f64, f64, usize),
 ) -> f64 {
     let mut rng = SmallRng::seed_from_u64(0x5EED_1E7E);
-    let (aa, ba) = p.filter_a;
-    let (ad, bd) = p.filter_dt;
-    let (mut ca, mut cd, mut pa, mut pd) = (0.0, 0.0, 0.0, 0.0);
+    // The anchor picks from a generator of their own, so a blend next to an anchor draws the
+    // anchor's normal sequence and its estimate tends to the anchor's (no jump of the
+    // loudness compensation as the cursor leaves a corner).
+    let mut pick = SmallRng::seed_from_u64(0x5EED_1E7E ^ PICK_SALT);
+    let pure = p.weights.iter().any(|&w| w >= 1.0);
+    let mut state = SeriesState::default();
     let floor = p.floor_weight();
     let min_width = 2.0 / sample_rate_hz.max(1.0);
     let (mut energy, mut area, mut time) = (0.0, 0.0, 0.0);
     for k in 0..LEVEL_DRAWS + 64 {
         let wn: f64 = StandardNormal.sample(&mut rng);
-        let (xa, xd) = draw(normal_cdf(wn), wn);
-        ca = -aa * ca + xa + ba * pa;
-        cd = -ad * cd + xd + bd * pd;
-        (pa, pd) = (xa, xd);
+        let v: f64 = if pure { 0.0 } else { pick.random() };
+        let (xa, xd, anchor) = draw(normal_cdf(wn), wn, v);
+        let (raw, raw_dt) = colour(p, pure, anchor, &mut state, xa, xd);
         if k < 64 {
             continue; // the filters forget their zero start
         }
-        let raw = p.mean_a + ca;
-        let a = if raw >= A_MIN || floor <= 0.0 {
-            raw
-        } else {
-            raw + floor.min(1.0) * (A_MIN - raw)
-        };
-        let dt = (p.mean_dt_s + cd).max(p.min_interval_s);
-        let z = crate::source::pulse::duration_s(p.zeta_s, p.theta, a.abs());
-        let h = a * p.pulse_gain;
+        let a = floored(raw, if anchor == 2 { floor } else { 0.0 });
+        let dt = raw_dt.max(p.min_interval_s);
+        let (zeta_s, theta, gain) = p.pulse_of(anchor);
+        let z = crate::source::pulse::duration_s(zeta_s, theta, a.abs());
+        let h = a * gain;
         // A raised cosine of width z and height h: area h·z/2, energy 3/8·h²·z (a narrow
         // pulse is widened to two samples keeping its area).
         let zw = z.max(min_width);
@@ -118,6 +138,67 @@ fn draws_power(
     }
     let t = time.max(1e-12);
     (energy / t - (area / t) * (area / t)).max(0.0)
+}
+
+/// The anchor a uniform `v` picks with the weights `w` (the last anchor with weight above 0
+/// takes what rounding leaves).
+fn pick_anchor(w: &[f64; 3], v: f64) -> usize {
+    let mut acc = 0.0;
+    let mut last = 0;
+    for (k, &wk) in w.iter().enumerate() {
+        if wk <= 0.0 {
+            continue;
+        }
+        acc += wk;
+        last = k;
+        if v < acc {
+            return k;
+        }
+    }
+    last
+}
+
+/// The ARMA step of one draw (TASLP eqs 8–9): at a pure anchor the set's own filters; in a
+/// blend the draw's anchor's, its state advanced only by draws that have a filter (the
+/// roll's), and its anchor's means. Returns the unfloored (A, Δ).
+fn colour(
+    p: &ActionParams,
+    pure: bool,
+    anchor: usize,
+    s: &mut SeriesState,
+    xa: f64,
+    xdt: f64,
+) -> (f64, f64) {
+    let q = &p.anchors[anchor.min(2)];
+    let (filter_a, filter_dt, mean_a, mean_dt) = if pure {
+        (p.filter_a, p.filter_dt, p.mean_a, p.mean_dt_s)
+    } else {
+        (q.filter_a, q.filter_dt, q.mean_a, q.mean_dt_s)
+    };
+    if !pure && filter_a == (0.0, 0.0) && filter_dt == (0.0, 0.0) {
+        return (mean_a + xa, mean_dt + xdt);
+    }
+    let (aa, ba) = filter_a;
+    let (ad, bd) = filter_dt;
+    s.c_a = -aa * s.c_a + xa + ba * s.prev_xa;
+    s.c_dt = -ad * s.c_dt + xdt + bd * s.prev_xdt;
+    s.prev_xa = xa;
+    s.prev_xdt = xdt;
+    if !s.c_a.is_finite() || !s.c_dt.is_finite() {
+        *s = SeriesState::default();
+    }
+    (mean_a + s.c_a, mean_dt + s.c_dt)
+}
+
+/// The rolling floor at weight `w` (module docs, "Signs").
+fn floored(a: f64, w: f64) -> f64 {
+    if a >= A_MIN || w <= 0.0 {
+        a
+    } else if w >= 1.0 {
+        A_MIN
+    } else {
+        a + w * (A_MIN - a)
+    }
 }
 
 /// One series' ARMA(1,1) filter state (TASLP eqs 8–9: the coloured parts of Aⁿ and Δⁿ_T
@@ -154,6 +235,8 @@ pub struct ActionSeries {
     pure_a: Option<Density>,
     pure_dt: Option<Density>,
     rng: SmallRng,
+    /// Attributes a blend's draws to anchors (module docs, "Attribution").
+    pick_rng: SmallRng,
     seed: u64,
     c_a: f64,
     c_dt: f64,
@@ -178,6 +261,7 @@ impl ActionSeries {
             pure_a: None,
             pure_dt: None,
             rng: SmallRng::seed_from_u64(seed),
+            pick_rng: SmallRng::seed_from_u64(seed ^ PICK_SALT),
             seed,
             c_a: 0.0,
             c_dt: 0.0,
@@ -208,6 +292,7 @@ impl ActionSeries {
     /// Reseed and restart from a stationary state (real-time safe).
     pub fn reset(&mut self) {
         self.rng = SmallRng::seed_from_u64(self.seed);
+        self.pick_rng = SmallRng::seed_from_u64(self.seed ^ PICK_SALT);
         self.c_a = 0.0;
         self.c_dt = 0.0;
         self.prev_xa = 0.0;
@@ -261,16 +346,12 @@ impl ActionSeries {
             return;
         }
         let p = self.params;
-        let here = draws_power(&p, self.anchor_fs, |u, wn| {
+        let here = draws_power(&p, self.anchor_fs, |_, wn, v| {
+            let k = pick_anchor(&p.weights, v);
             (
-                match self.pure_a {
-                    Some(d) => d.sample(wn),
-                    None => self.table_a.lookup(u),
-                },
-                match self.pure_dt {
-                    Some(d) => d.sample(wn),
-                    None => self.table_dt.lookup(u),
-                },
+                p.anchors[k].amplitude.sample(wn),
+                p.anchors[k].interval_s.sample(wn),
+                k,
             )
         });
         let key = [self.anchor_size, self.anchor_roughness, self.anchor_fs];
@@ -285,7 +366,7 @@ impl ActionSeries {
                     a.interval_s.single().expect("pure"),
                 );
                 self.anchor_power[i] =
-                    draws_power(&a, key[2], |_, wn| (da.sample(wn), dd.sample(wn)));
+                    draws_power(&a, key[2], |_, wn, _| (da.sample(wn), dd.sample(wn), i));
             }
             self.anchor_key = key;
         }
@@ -309,37 +390,27 @@ impl ActionSeries {
             (size, roughness, sample_rate_hz);
     }
 
-    fn advance(&mut self) -> (f64, f64) {
+    /// One draw: the unfloored (A, Δ) and the anchor it is attributed to (module docs).
+    fn advance(&mut self) -> (f64, f64, usize) {
         let w: f64 = StandardNormal.sample(&mut self.rng);
-        let mut u = f64::NAN;
-        let uniform = |u: &mut f64| {
-            if u.is_nan() {
-                *u = normal_cdf(w);
-            }
-            *u
-        };
-        let xa = match self.pure_a {
-            Some(d) => d.sample(w),
-            None => self.table_a.lookup(uniform(&mut u)),
-        };
-        let xdt = match self.pure_dt {
-            Some(d) => d.sample(w),
-            None => self.table_dt.lookup(uniform(&mut u)),
-        };
         let p = &self.params;
-        let (aa, ba) = p.filter_a;
-        let (ad, bd) = p.filter_dt;
-        self.c_a = -aa * self.c_a + xa + ba * self.prev_xa;
-        self.c_dt = -ad * self.c_dt + xdt + bd * self.prev_xdt;
-        self.prev_xa = xa;
-        self.prev_xdt = xdt;
-        if !self.c_a.is_finite() || !self.c_dt.is_finite() {
-            self.c_a = 0.0;
-            self.c_dt = 0.0;
-            self.prev_xa = 0.0;
-            self.prev_xdt = 0.0;
-        }
-        (p.mean_a + self.c_a, p.mean_dt_s + self.c_dt)
+        let (xa, xdt, anchor) = match (self.pure_a, self.pure_dt) {
+            (Some(da), Some(dd)) => {
+                let k = p.weights.iter().position(|&x| x > 0.0).unwrap_or(2);
+                (da.sample(w), dd.sample(w), k)
+            }
+            _ => {
+                let v: f64 = self.pick_rng.random();
+                let k = pick_anchor(&p.weights, v);
+                let q = &p.anchors[k];
+                (q.amplitude.sample(w), q.interval_s.sample(w), k)
+            }
+        };
+        let pure = self.pure_a.is_some() && self.pure_dt.is_some();
+        let mut s = self.state();
+        let (a, dt) = colour(p, pure, anchor, &mut s, xa, xdt);
+        self.set_state(s);
+        (a, dt, anchor)
     }
 
     /// Draw the next impact of another series that shares these parameters and this
@@ -370,21 +441,15 @@ impl ActionSeries {
 
     /// Draw the next impact.
     pub fn next_impact(&mut self) -> ActionStep {
-        let (a, dt) = self.advance();
+        let (a, dt, anchor) = self.advance();
         let p = &self.params;
-        let w = p.floor_weight();
-        let amplitude = if a >= A_MIN {
-            a
-        } else if w >= 1.0 {
-            A_MIN
-        } else {
-            a + w * (A_MIN - a)
-        };
+        let w = if anchor == 2 { p.floor_weight() } else { 0.0 };
         ActionStep {
-            amplitude,
+            amplitude: floored(a, w),
             interval_s: dt.max(p.min_interval_s),
             raw_amplitude: a,
             raw_interval_s: dt,
+            anchor,
         }
     }
 }

@@ -273,6 +273,7 @@ impl Source {
                 interval_s: 0.0,
                 raw_amplitude: 0.0,
                 raw_interval_s: 0.0,
+                anchor: 2,
             },
             am: Modulator::new(),
             lp: Lowpass::new(),
@@ -517,12 +518,15 @@ impl Source {
             let lead = 0.5 * T0_MAX_S * fs;
             while self.next_center - lead < n as f64 {
                 let step = self.pending;
-                let t0 = duration_s(ap.zeta_s * c1, ap.theta, step.amplitude.abs());
+                // The pulse of the draw's anchor (a blend's draws are attributed:
+                // `source::action`, "Attribution").
+                let (zeta_s, theta, pulse_gain) = ap.pulse_of(step.anchor);
+                let t0 = duration_s(zeta_s * c1, theta, step.amplitude.abs());
                 self.train.add(
                     &self.shape,
                     self.next_center,
                     t0 * fs,
-                    (step.amplitude * ap.pulse_gain * ap.level_gain) as f32,
+                    (step.amplitude * pulse_gain * ap.level_gain) as f32,
                 );
                 if self.log.enabled() {
                     self.log.record(ImpactRecord {

@@ -135,6 +135,12 @@ pub struct ActionParams {
     pub min_interval_s: f64,
     /// Loudness compensation of a blend (1 at the anchors; see [`ActionParams::blend`]).
     pub level_gain: f64,
+    /// The three prototypes (rub, scratch, roll) as blended: a blend's draw is attributed to
+    /// one of them and plays its pulse, filter and means (`source::action`, "Attribution").
+    pub anchors: [Prototype; 3],
+    /// Each anchor's own pulse gain (1 for the roll; ζ_min/ζ for a friction anchor, so a
+    /// lengthened friction pulse keeps its area).
+    pub anchor_gain: [f64; 3],
 }
 
 impl ActionParams {
@@ -162,8 +168,9 @@ impl ActionParams {
         let lin = |f: &dyn Fn(&Prototype) -> f64| -> f64 { (0..3).map(|i| w[i] * f(&p[i])).sum() };
         let friction = w[0] + w[1];
         let fz = friction_zeta_s(0.1);
+        let anchor_gain = [fz / p[0].zeta_s.max(fz), fz / p[1].zeta_s.max(fz), 1.0];
         let friction_gain = if friction > 0.0 {
-            (w[0] * fz / p[0].zeta_s.max(fz) + w[1] * fz / p[1].zeta_s.max(fz)) / friction
+            (w[0] * anchor_gain[0] + w[1] * anchor_gain[1]) / friction
         } else {
             1.0
         };
@@ -192,22 +199,46 @@ impl ActionParams {
             pulse_gain: w[2] + friction * friction_gain,
             min_interval_s: (1.0 / sample_rate_hz).min(INTERVAL_MIN_S),
             level_gain: 1.0,
+            anchors: *p,
+            anchor_gain,
         }
         .with_level(p, sample_rate_hz)
     }
 
     /// Expected force power of this set, up to a constant: pulse energy × rate,
     /// g²·(ζ_eff·E|A|)²/max(ζ_eff, 2/f_s) / E[Δ] — a pulse narrower than two samples is
-    /// widened keeping its area (see [`crate::source::pulse`]).
+    /// widened keeping its area (see [`crate::source::pulse`]). A blend's draws are
+    /// attributed (`source::action`): each anchor's share of the draws brings its own pulse
+    /// gain, ζ and filtered amplitude.
     fn power(&self, sample_rate_hz: f64) -> f64 {
-        let (a, b) = self.filter_a;
-        let gain2 = (1.0 + b * b - 2.0 * a * b) / (1.0 - a * a);
-        let mean = self.expected_mean_amplitude();
-        let a2 = mean * mean + self.amplitude.variance() * gain2;
-        let z = self.zeta_s.max(1e-9);
-        let pulse = self.pulse_gain * self.pulse_gain * z * z / z.max(2.0 / sample_rate_hz);
         let rate = 1.0 / self.expected_mean_interval_s().max(1.0 / sample_rate_hz);
-        pulse * a2 * rate
+        let energy: f64 = (0..3)
+            .filter(|&k| self.weights[k] > 0.0)
+            .map(|k| {
+                let q = &self.anchors[k];
+                let (a, b) = q.filter_a;
+                let gain2 = (1.0 + b * b - 2.0 * a * b) / (1.0 - a * a);
+                let mean = q.mean_a + (1.0 + b) / (1.0 + a) * q.amplitude.mean();
+                let a2 = mean * mean + q.amplitude.variance() * gain2;
+                let z = q.zeta_s.max(1e-9);
+                let g = self.anchor_gain[k];
+                self.weights[k] * g * g * z * z / z.max(2.0 / sample_rate_hz) * a2
+            })
+            .sum();
+        energy * rate
+    }
+
+    /// What a draw attributed to anchor `k` plays: its pulse's ζ (seconds), θ and gain. At a
+    /// pure anchor these are the set's own (so an anchor plays exactly as before blends
+    /// were attributed).
+    pub fn pulse_of(&self, k: usize) -> (f64, f64, f64) {
+        let k = k.min(2);
+        if self.weights[k] >= 1.0 {
+            (self.zeta_s, self.theta, self.pulse_gain)
+        } else {
+            let q = &self.anchors[k];
+            (q.zeta_s, q.theta, self.anchor_gain[k])
+        }
     }
 
     /// Loudness compensation of a blend: the mixture of a dense and a sparse density is
@@ -245,15 +276,35 @@ impl ActionParams {
         self.weights[2].powi(8)
     }
 
-    /// Expected mean of the (unfloored) amplitude series: μ_A + H_A(1)·E[X̃_A].
+    /// Expected mean of the (unfloored) amplitude series: Σₖ wₖ·(μ_A,k + H_A,k(1)·E[X̃_A,k])
+    /// over the anchors a draw is attributed to (μ_A + H_A(1)·E[X̃_A] at an anchor).
     pub fn expected_mean_amplitude(&self) -> f64 {
-        let (a, b) = self.filter_a;
-        self.mean_a + (1.0 + b) / (1.0 + a) * self.amplitude.mean()
+        if self.weights.iter().any(|&w| w >= 1.0) {
+            let (a, b) = self.filter_a;
+            return self.mean_a + (1.0 + b) / (1.0 + a) * self.amplitude.mean();
+        }
+        (0..3)
+            .map(|k| {
+                let q = &self.anchors[k];
+                let (a, b) = q.filter_a;
+                self.weights[k] * (q.mean_a + (1.0 + b) / (1.0 + a) * q.amplitude.mean())
+            })
+            .sum()
     }
 
-    /// Expected mean of the (unfloored) interval series: μ_Δ + H_Δ(1)·E[X̃_Δ], seconds.
+    /// Expected mean of the (unfloored) interval series, seconds: as
+    /// [`expected_mean_amplitude`](Self::expected_mean_amplitude), for Δ.
     pub fn expected_mean_interval_s(&self) -> f64 {
-        let (a, b) = self.filter_dt;
-        self.mean_dt_s + (1.0 + b) / (1.0 + a) * self.interval_s.mean()
+        if self.weights.iter().any(|&w| w >= 1.0) {
+            let (a, b) = self.filter_dt;
+            return self.mean_dt_s + (1.0 + b) / (1.0 + a) * self.interval_s.mean();
+        }
+        (0..3)
+            .map(|k| {
+                let q = &self.anchors[k];
+                let (a, b) = q.filter_dt;
+                self.weights[k] * (q.mean_dt_s + (1.0 + b) / (1.0 + a) * q.interval_s.mean())
+            })
+            .sum()
     }
 }

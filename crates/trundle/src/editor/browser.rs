@@ -9,6 +9,7 @@ use super::layout::*;
 use super::state::*;
 use super::text_entry::ERROR_COLOUR;
 use super::theme::*;
+use crate::body_eq_slot::LoadedCurve;
 use crate::user_presets::{matches_filter, parse_tags, Listing};
 use egui::RichText;
 use egui::{Pos2, Rect, Stroke, UiBuilder, Vec2};
@@ -95,6 +96,12 @@ impl TrundleEditor {
             self.params.object.clear();
             self.browser.status = Some((format!("its fitted object is unusable: {e}"), true));
         }
+        // Its body EQ curve, or none (a preset without one: the model's own spectrum).
+        let curve = preset.body_eq.clone().map(|curve| LoadedCurve {
+            curve,
+            source: preset.name.clone(),
+        });
+        self.params.body_eq.set(curve);
         self.loaded = Some(Loaded {
             source: source.clone(),
             name: preset.name,
@@ -475,22 +482,21 @@ impl TrundleEditor {
             let live = self.live_params();
             let tags = parse_tags(&self.browser.save_tags);
             let name = self.browser.save_name.trim().to_string();
-            self.browser.status = Some(
-                match store.save(&name, "", &live, self.params.object.file(), &tags) {
-                    Ok(file) => {
-                        self.loaded = Some(Loaded {
-                            source: PresetRef::User(file.clone()),
-                            name: name.clone(),
-                            params: live,
-                        });
-                        self.browser.selected = Some(PresetRef::User(file.clone()));
-                        self.browser.rename = name.clone();
-                        self.browser.tags = tags.join(", ");
-                        (format!("saved '{name}' as {file}"), false)
-                    }
-                    Err(e) => (e, true),
-                },
-            );
+            let (object, curve) = (self.params.object.file(), self.params.body_eq.curve());
+            self.browser.status = Some(match store.save(&name, "", &live, object, curve, &tags) {
+                Ok(file) => {
+                    self.loaded = Some(Loaded {
+                        source: PresetRef::User(file.clone()),
+                        name: name.clone(),
+                        params: live,
+                    });
+                    self.browser.selected = Some(PresetRef::User(file.clone()));
+                    self.browser.rename = name.clone();
+                    self.browser.tags = tags.join(", ");
+                    (format!("saved '{name}' as {file}"), false)
+                }
+                Err(e) => (e, true),
+            });
             self.refresh_user_presets();
         }
     }

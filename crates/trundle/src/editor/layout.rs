@@ -97,6 +97,20 @@ pub(super) fn split_side(body: Rect, n: usize, side_units: f32) -> (Rect, Rect) 
     )
 }
 
+/// The OBJECT panel's knob area split into the knobs (top) and the body EQ curve strip
+/// under them (a quarter of the height, at least two lines of small text).
+pub(super) fn split_curve_strip(knobs: Rect, t: &Theme) -> (Rect, Rect) {
+    let h = (0.26 * knobs.height())
+        .max(2.4 * t.font_small)
+        .min(0.5 * knobs.height());
+    let gap = 4.0 * t.scale;
+    let split = knobs.bottom() - h;
+    (
+        Rect::from_min_max(knobs.min, Pos2::new(knobs.right(), split - gap)),
+        Rect::from_min_max(Pos2::new(knobs.left() + 2.0 * t.scale, split), knobs.max),
+    )
+}
+
 /// A side column for a vertical selector of `n` variants under a caption: aligned with the
 /// knob `band`, but never less than a comfortable row per variant (within `side`).
 pub(super) fn side_column(side: Rect, band: Rect, n: usize, t: &Theme) -> Rect {

@@ -23,7 +23,10 @@
 //!   `editor/gesture.rs`), so host automation recording works. Double-click types a value
 //!   (`editor/text_entry.rs`), ctrl/cmd- or alt-click resets, on every control.
 //! * "Load…" in the OBJECT panel opens the fitted-object picker (`editor/object_picker.rs`)
-//!   in place of the body: an object file or a WAV strike fitted on the spot.
+//!   in place of the body: an object file or a WAV strike fitted on the spot. "EQ…" beside
+//!   it opens the same page for a body EQ curve (a preset or a `trundle match` output),
+//!   drawn under the OBJECT knobs with the `body_eq` amount applied
+//!   (`editor/body_eq_view.rs`).
 //! * The preset name opens the browser (`editor/browser.rs`) in place of the body: built-in
 //!   and user presets (`crate::user_presets`), filtered by name and tag. A/B compare
 //!   (`crate::compare`) and randomize (`crate::randomize`) change the whole sound through
@@ -42,6 +45,7 @@
 //!   [`SpectrumTap`] — only while the window is open, with buffers allocated once (the
 //!   one per-frame allocation is the shape handed to egui, which takes ownership of it).
 
+mod body_eq_view;
 mod browser;
 mod disks;
 mod gesture;
@@ -250,7 +254,10 @@ impl NiceEguiApp for TrundleEditor {
         self.object_title(ui, l.object, body, &t);
         let knob_ids = placed(Panel::Object, Section::Knobs);
         let (knobs, side) = split_side(body, knob_ids.len(), 1.4);
+        // The body EQ curve under the knobs (the amount is one of them).
+        let (knobs, curve) = split_curve_strip(knobs, &t);
         let band = self.knob_row(ui, knobs, &setter, &t, &knob_ids);
+        self.body_eq_view(ui, curve, &t);
         for id in placed(Panel::Object, Section::Side) {
             if let TableParam::Int(p) = self.params.get(id) {
                 let spec = id.spec();

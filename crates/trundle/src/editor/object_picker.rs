@@ -6,6 +6,9 @@
 //! how the fit went. The folder is read on the GUI thread when the page opens or moves —
 //! never on the audio thread.
 //!
+//! "EQ…" opens the same page to load a body EQ curve ([`crate::body_eq_slot`]): a preset or a
+//! `trundle match` output whose `body_eq` the plugin then plays.
+//!
 //! The picker is drawn by the editor itself rather than by the system's file dialog: a
 //! plugin window cannot count on a desktop portal or a GTK runtime in every host, and this
 //! one looks and scales like the rest of the editor. (Dropping a file onto the editor is not
@@ -19,14 +22,15 @@ use super::theme::*;
 use super::widgets;
 use crate::object_slot::FitStatus;
 use egui::RichText;
-use egui::{Align2, FontId, Id, Pos2, Rect, UiBuilder, Vec2};
+use egui::{Align2, Color32, FontId, Id, Pos2, Rect, UiBuilder, Vec2};
 use std::path::PathBuf;
 use trundle_io::recording::is_recording_name;
 
 impl TrundleEditor {
-    /// Open or close the picker (reading its folder as it opens).
-    pub(super) fn toggle_object_picker(&mut self) {
-        self.picker.open = !self.picker.open;
+    /// Open the picker for `target` (reading its folder), or close it if it is open for it.
+    pub(super) fn toggle_picker(&mut self, target: PickTarget) {
+        self.picker.open = !(self.picker.open && self.picker.target == target);
+        self.picker.target = target;
         if self.picker.open {
             self.browser.open = false;
             let dir = self.picker.dir.clone();
@@ -45,7 +49,13 @@ impl TrundleEditor {
             Pos2::new(rect.right() - pad - w, rect.top() + pad),
             Vec2::new(w, h),
         );
-        let label = if self.picker.open { "Close" } else { "Load…" };
+        let (open, open_target) = (self.picker.open, self.picker.target);
+        let open_for = |target| open && open_target == target;
+        let label = if open_for(PickTarget::Object) {
+            "Close"
+        } else {
+            "Load…"
+        };
         if widgets::button(ui, button, Id::unique("object_load"), label, t)
             .on_hover_text(
                 "Play a recorded prop instead of the recipe object: an object file \
@@ -53,8 +63,24 @@ impl TrundleEditor {
             )
             .clicked()
         {
-            self.toggle_object_picker();
+            self.toggle_picker(PickTarget::Object);
         }
+        let eq_button = button.translate(Vec2::new(-(w + pad), 0.0));
+        let label = if open_for(PickTarget::BodyEq) {
+            "Close"
+        } else {
+            "EQ…"
+        };
+        if widgets::button(ui, eq_button, Id::unique("body_eq_load"), label, t)
+            .on_hover_text(
+                "Load a body EQ curve: a preset or a trundle match output (its body_eq), \
+                 played scaled by the Body EQ knob",
+            )
+            .clicked()
+        {
+            self.toggle_picker(PickTarget::BodyEq);
+        }
+        let button = eq_button;
         let note = match self.params.object.status() {
             FitStatus::Fitting(name) => Some((format!("fitting {name}…"), ACCENT)),
             _ => self
@@ -77,13 +103,18 @@ impl TrundleEditor {
     /// The picker page in `rect` (the editor's body).
     pub(super) fn object_picker(&mut self, ui: &mut egui::Ui, rect: Rect, t: &Theme) {
         let s = t.scale;
-        let body = panel(
-            ui,
-            rect,
-            "LOAD OBJECT",
-            Some("an object file (*.object.json) or a WAV of one strike"),
-            t,
-        );
+        let target = self.picker.target;
+        let (title, note) = match target {
+            PickTarget::Object => (
+                "LOAD OBJECT",
+                "an object file (*.object.json) or a WAV of one strike",
+            ),
+            PickTarget::BodyEq => (
+                "LOAD BODY EQ",
+                "a preset or a trundle match output (*.json) with a body_eq curve",
+            ),
+        };
+        let body = panel(ui, rect, title, Some(note), t);
         let bar_h = 24.0 * s;
         let gap = 8.0 * s;
         let bar = Rect::from_min_size(body.min, Vec2::new(body.width(), bar_h));
@@ -120,6 +151,17 @@ impl TrundleEditor {
                     if ui.button("Close").clicked() {
                         self.picker.open = false;
                     }
+                    if target == PickTarget::BodyEq {
+                        let some = self.params.body_eq.curve().is_some();
+                        if ui
+                            .add_enabled(some, egui::Button::new("No curve"))
+                            .on_hover_text("Clear the body EQ curve: the model's own spectrum")
+                            .clicked()
+                        {
+                            self.params.body_eq.clear();
+                        }
+                        return;
+                    }
                     let fitted = self.params.object.source_name().is_some();
                     if ui
                         .add_enabled(fitted, egui::Button::new("Use the recipe"))
@@ -155,6 +197,8 @@ impl TrundleEditor {
                         };
                         let hint = if e.dir {
                             "open this folder"
+                        } else if target == PickTarget::BodyEq {
+                            "play this file's body EQ curve"
                         } else if is_recording_name(&e.name) {
                             "fit this strike and play it"
                         } else {
@@ -176,14 +220,17 @@ impl TrundleEditor {
                 });
         });
 
-        let (text, colour) = match self.params.object.status() {
-            FitStatus::Idle => match self.params.object.source_name() {
-                Some(n) => (format!("playing the object fitted from {n}"), TEXT),
-                None => ("playing the recipe object".to_string(), TEXT_DIM),
-            },
-            FitStatus::Fitting(n) => (format!("fitting {n}…"), ACCENT),
-            FitStatus::Done(s) => (format!("loaded {s}"), TEXT),
-            FitStatus::Failed(e) => (e, ERROR_COLOUR),
+        let (text, colour) = if target == PickTarget::BodyEq {
+            match (self.params.body_eq.status(), self.params.body_eq.loaded()) {
+                (Some((e, true)), _) => (e, ERROR_COLOUR),
+                (_, Some(l)) => (format!("playing the body EQ from {}", l.source), TEXT),
+                (_, None) => (
+                    "no body EQ curve: the model's own spectrum".to_string(),
+                    TEXT_DIM,
+                ),
+            }
+        } else {
+            self.object_status_line()
         };
         ui.painter().text(
             status.left_center(),
@@ -197,7 +244,23 @@ impl TrundleEditor {
             self.picker.read(dir);
         }
         if let Some(path) = load {
-            self.params.object.load_path(path);
+            match target {
+                PickTarget::Object => self.params.object.load_path(path),
+                PickTarget::BodyEq => self.params.body_eq.load_path(&path),
+            }
+        }
+    }
+
+    /// The picker's status line for the object: what plays, the fit, or why it failed.
+    fn object_status_line(&self) -> (String, Color32) {
+        match self.params.object.status() {
+            FitStatus::Idle => match self.params.object.source_name() {
+                Some(n) => (format!("playing the object fitted from {n}"), TEXT),
+                None => ("playing the recipe object".to_string(), TEXT_DIM),
+            },
+            FitStatus::Fitting(n) => (format!("fitting {n}…"), ACCENT),
+            FitStatus::Done(s) => (format!("loaded {s}"), TEXT),
+            FitStatus::Failed(e) => (e, ERROR_COLOUR),
         }
     }
 }

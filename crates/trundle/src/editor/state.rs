@@ -88,10 +88,22 @@ pub(super) struct Entry {
     pub(super) dir: bool,
 }
 
+/// What the picker loads.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(super) enum PickTarget {
+    /// A fitted object (an object file or a recording of one strike).
+    #[default]
+    Object,
+    /// A body EQ curve (a preset, a `trundle match` output or a bare curve).
+    BodyEq,
+}
+
 /// The picker's state.
 pub(super) struct ObjectPicker {
     /// Showing the page.
     pub(super) open: bool,
+    /// What a picked file is loaded as.
+    pub(super) target: PickTarget,
     pub(super) dir: PathBuf,
     /// The path field (a folder to open or a file to load).
     pub(super) typed: String,
@@ -107,6 +119,7 @@ impl Default for ObjectPicker {
             .unwrap_or_else(|| PathBuf::from("/"));
         Self {
             open: false,
+            target: PickTarget::Object,
             typed: dir.display().to_string(),
             dir,
             entries: Vec::new(),

@@ -36,12 +36,18 @@
 //! all never reaches us: nice-plug refuses it, the host is told the load failed and the
 //! instance keeps its current values.
 //!
+//! Two persisted fields carry more than numbers: the fitted object (`object`,
+//! [`crate::object_slot`]) and the body EQ curve (`body_eq`, [`crate::body_eq_slot`]). Each
+//! is validated by `check_state`; an unusable one is dropped with a logged reason (the
+//! recipe object, no curve) and the rest of the state loads.
+//!
 //! The parameter wrapper lives here; the saved state's version and migrations in
 //! `params/version.rs`; the check of a saved state in `params/state.rs`.
 
 pub mod state;
 mod version;
 
+use crate::body_eq_slot::{BodyEqSlot, BODY_EQ_FIELD};
 use crate::object_slot::{ObjectSlot, OBJECT_FIELD};
 use nice_plug::prelude::*;
 use nice_plug_egui::EguiEditorState;
@@ -199,6 +205,9 @@ pub struct TrundleParams {
     /// The fitted object played instead of the recipe one, saved in the state (field
     /// [`OBJECT_FIELD`]: the object file's JSON).
     pub object: Arc<ObjectSlot>,
+    /// The body EQ curve the `body_eq` amount scales, saved in the state (field
+    /// [`BODY_EQ_FIELD`]).
+    pub body_eq: Arc<BodyEqSlot>,
 }
 
 impl Default for TrundleParams {
@@ -215,6 +224,7 @@ impl Default for TrundleParams {
             ),
             state_version: AtomicU32::new(STATE_VERSION),
             object: Arc::new(ObjectSlot::default()),
+            body_eq: Arc::new(BodyEqSlot::default()),
         }
     }
 }
@@ -255,6 +265,9 @@ unsafe impl Params for TrundleParams {
         if let Some(text) = self.object.to_state_text() {
             m.insert(OBJECT_FIELD.into(), text);
         }
+        if let Some(text) = self.body_eq.to_state_text() {
+            m.insert(BODY_EQ_FIELD.into(), text);
+        }
         m
     }
 
@@ -280,6 +293,15 @@ unsafe impl Params for TrundleParams {
                 "Trundle state: its fitted object is unusable ({e}); the recipe object plays"
             );
             self.object.clear();
+        }
+        // The state's body EQ curve (checked by `check_state`), or none.
+        match serialized.get(BODY_EQ_FIELD).map(|t| BodyEqSlot::parse(t)) {
+            Some(Ok(curve)) => self.body_eq.set(Some(curve)),
+            Some(Err(e)) => {
+                nice_warn!("Trundle state: its body EQ curve is unusable ({e}); no curve plays");
+                self.body_eq.clear();
+            }
+            None => self.body_eq.set(None),
         }
         if version != STATE_VERSION {
             nice_warn!(

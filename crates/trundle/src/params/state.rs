@@ -5,6 +5,7 @@
 use super::version::{parse_version, OLDEST_STATE_VERSION, STATE_MIGRATIONS};
 use super::version::{STATE_VERSION, STATE_VERSION_FIELD};
 use super::{to_plugin_value, BYPASS_ID, RUN_ID};
+use crate::body_eq_slot::{BodyEqSlot, BODY_EQ_FIELD};
 use crate::object_slot::{ObjectSlot, OBJECT_FIELD};
 use nice_plug::plugin::ParamValue;
 use nice_plug::prelude::*;
@@ -164,7 +165,7 @@ pub fn check_state(state: &mut PluginState) -> Vec<String> {
         Ok(_) => None,
     };
     for key in state.fields.keys() {
-        if key != STATE_VERSION_FIELD && key != OBJECT_FIELD {
+        if ![STATE_VERSION_FIELD, OBJECT_FIELD, BODY_EQ_FIELD].contains(&key.as_str()) {
             report.push(format!("unknown persisted field '{key}' ignored"));
         }
     }
@@ -180,12 +181,27 @@ pub fn check_state(state: &mut PluginState) -> Vec<String> {
             }
         }
     });
+    // A body EQ curve likewise (a corrupt or out-of-range one: no curve).
+    let body_eq =
+        state
+            .fields
+            .remove(BODY_EQ_FIELD)
+            .and_then(|text| match BodyEqSlot::parse(&text) {
+                Ok(_) => Some(text),
+                Err(e) => {
+                    report.push(format!("{e}: no body EQ curve plays"));
+                    None
+                }
+            });
     state.fields.clear();
     state
         .fields
         .insert(STATE_VERSION_FIELD.into(), STATE_VERSION.to_string());
     if let (Some(text), None) = (object, &refusal) {
         state.fields.insert(OBJECT_FIELD.into(), text);
+    }
+    if let (Some(text), None) = (body_eq, &refusal) {
+        state.fields.insert(BODY_EQ_FIELD.into(), text);
     }
 
     if let Some(why) = refusal {

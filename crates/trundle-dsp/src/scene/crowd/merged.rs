@@ -105,7 +105,6 @@ impl Crowd {
         let nf = n as f64;
         if members > 0 && !(v0 == 0.0 && v1 == 0.0) {
             let ap = *m.series.params();
-            let gain = ap.pulse_gain * ap.level_gain / c1 * played_gain;
             if (s1, v1, self.controls.spread) != m.scale_at {
                 // Each merged ball's level L(Vᵢ)·G(Sᵢ) and size ratio Sᵢ/S, computed again
                 // only when S, V or the spread move (not per impact).
@@ -121,14 +120,17 @@ impl Crowd {
                 let mut t = m.next_center[j];
                 if t - lead < nf {
                     let (level, size_ratio) = m.scale[j];
-                    let g = gain * level;
                     let group = self.scatter[j].group();
                     // ζ ∝ S (eq 16): the scene's ζ scaled to this ball's size.
-                    let zeta_s = ap.zeta_s * size_ratio * c1;
+                    // Each draw plays its anchor's pulse (`source::action`, "Attribution").
                     while t - lead < nf {
                         let step = m.series.next_impact_with(&mut m.states[j]);
-                        let t0 = duration_s(zeta_s, ap.theta, step.amplitude.abs());
-                        m.trains[group].add(&m.shape, t, t0 * fs, (step.amplitude * g) as f32);
+                        let (zeta_s, theta, pulse_gain) = ap.pulse_of(step.anchor);
+                        let zeta_s = zeta_s * size_ratio * c1;
+                        let t0 = duration_s(zeta_s, theta, step.amplitude.abs());
+                        let g = pulse_gain * ap.level_gain / c1 * played_gain * level;
+                        let h = step.amplitude * g;
+                        m.trains[group].add(&m.shape, t, t0 * fs, h as f32);
                         m.impacts += 1;
                         t += step.interval_s * fs;
                     }
