@@ -41,6 +41,7 @@ mod list;
 mod match_cmd;
 mod match_search;
 mod match_space;
+mod match_start;
 mod output;
 mod physics_cmd;
 mod render;

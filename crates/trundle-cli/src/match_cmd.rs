@@ -5,6 +5,7 @@
 //! ```text
 //! RECORDING ─► excerpt (the middle S s) ─► profile (compare's four measures, once)
 //!   ─► cue: waveform kurtosis → rub / roll / scratch (the search's start on the action disk)
+//!   ─► first estimates of the textures off the profile (match_start: strokes, bumps, …)
 //!   [--strike ─► fit-object ─► the candidates play the fitted object]
 //!   ─► CMA-ES over match_space::SPACE, restarts over (ball material, shape);
 //!      each candidate rendered at K seeds, heard through its body EQ, judged (match_search)
@@ -20,7 +21,8 @@ use crate::compare_cmd::load_mono;
 use crate::error::{failure, input, quote, CliError};
 use crate::fit_cmd::{fit_file, write_text};
 use crate::match_search::{judge, search, Judged, Plan, Target};
-use crate::match_space::{action_cue, action_name, dims, restarts_for, RESTARTS};
+use crate::match_space::{action_cue, action_name, dims, restarts_for, with_restart, RESTARTS};
+use crate::match_start::{estimate, starts};
 use crate::output::check_destination;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde_json::{json, Value};
@@ -220,10 +222,15 @@ pub fn run(args: &MatchArgs) -> Result<(String, u8), CliError> {
         ProgressBar::with_draw_target(Some(args.budget as u64), ProgressDrawTarget::stderr())
             .with_style(style)
     };
+    let estimate = estimate(&target.reference);
+    let restarts: Vec<Params> = restarts_for(cue, RESTARTS.len())
+        .iter()
+        .map(|r| with_restart(&start, r))
+        .collect();
     let plan = Plan {
         dims: &dims,
         start,
-        restarts: restarts_for(cue, RESTARTS.len()),
+        starts: starts(&restarts, &estimate),
         seeds: (1..=args.seeds).collect(),
         budget: args.budget,
         seed: args.search_seed,
@@ -258,12 +265,14 @@ pub fn run(args: &MatchArgs) -> Result<(String, u8), CliError> {
         "seconds": target.samples as f64 / fs,
         "passed": matched,
         "loss": validation.loss,
-        "loss_note": "½(mean + max) of compare's loss over the validation seeds, + 5 per unit of brightness ratio under 1.1",
+        "loss_note": "½(mean + max) of compare's loss over the validation seeds, + 5 per unit of brightness ratio under 1.1, + 0.07 per dB of the model's own spectrum beyond 7 dB",
         "search_loss": best.loss,
         "search_seeds": plan.seeds,
         "validation": per_seed,
         "action": action,
+        "start_estimate": estimate.describe(),
         "brightness_at_1_5x_velocity": brightness,
+        "own_spectrum_db": validation.own_spectrum_db,
         "candidates": found.evaluations,
         "elapsed_s": seconds,
         "body_eq": { "bands_hz": best.curve.bands_hz, "gain_db": best.curve.gain_db },
@@ -309,6 +318,7 @@ pub fn run(args: &MatchArgs) -> Result<(String, u8), CliError> {
         plan.seeds.len(),
         target.reference.kurtosis
     );
+    s += &format!("start: {}\n", estimate.describe());
     s += &format!(
         "validated at seeds {VALIDATION_SEEDS:?} (not searched): loss {:.2} (search {:.2})\n",
         validation.loss, best.loss
@@ -324,7 +334,10 @@ pub fn run(args: &MatchArgs) -> Result<(String, u8), CliError> {
             c.measures_passed()
         );
     }
-    s += &format!("1.5× velocity: spectral centroid ×{brightness:.2}\n");
+    s += &format!(
+        "1.5× velocity: spectral centroid ×{brightness:.2}; the model's own spectrum (body_eq 0): {:.1} dB from the recording's\n",
+        validation.own_spectrum_db
+    );
     if matched {
         s += "a match: every measure within its limit at every validation seed\n";
     } else {

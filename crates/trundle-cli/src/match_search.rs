@@ -12,11 +12,13 @@
 //!   ─► each render through the curve ─► profile ─► compare ─► loss ─► CMA-ES ─► next x
 //! ```
 
-use crate::match_space::{self, apply_eq, Dim, EqCurve, Restart, MAX_EQ_DB};
+use crate::match_space::{self, apply_eq, Dim, EqCurve, MAX_EQ_DB};
 use indicatif::ProgressBar;
 use rayon::prelude::*;
 use std::sync::Arc;
-use trundle_dsp::analysis::compare::spectrum::{long_term_spectrum, LongTermSpectrum};
+use trundle_dsp::analysis::compare::spectrum::{
+    long_term_spectrum, spectrum_distance_db, LongTermSpectrum,
+};
 use trundle_dsp::analysis::compare::{compare_profiles, profile, Comparison, Profile};
 use trundle_dsp::fit::cmaes::{CmaEs, Settings};
 use trundle_dsp::object::fitted::LoadedObject;
@@ -45,11 +47,15 @@ pub struct Judged {
     pub comparisons: Vec<Comparison>,
     /// ½(mean + max) of the seeds' losses (∞ when a render could not be compared), plus
     /// [`BRIGHTNESS_WEIGHT`] per unit the brightness ratio falls short of
-    /// [`MIN_BRIGHTNESS`].
+    /// [`MIN_BRIGHTNESS`], plus [`OWN_SPECTRUM_WEIGHT`] per dB the model's own spectrum lies
+    /// beyond [`OWN_SPECTRUM_TARGET_DB`].
     pub loss: f64,
     /// Spectral centroid at 1.5× the velocity over the centroid as is, both through the
     /// curve, at the first seed.
     pub brightness: f64,
+    /// The model's own spectrum (no body EQ) from the recording's: dB RMS, the mean over
+    /// the seeds ([`own_spectrum_db`]).
+    pub own_spectrum_db: f64,
 }
 
 /// A match must be this much brighter (spectral centroid ratio) at 1.5× its velocity: the
@@ -58,6 +64,17 @@ pub const MIN_BRIGHTNESS: f64 = 1.1;
 /// Loss added per unit of brightness ratio short of [`MIN_BRIGHTNESS`] (a ratio of 1.0
 /// costs 0.5, half of the loss's whole range inside the limits).
 pub const BRIGHTNESS_WEIGHT: f64 = 5.0;
+
+/// The model's own spectrum (the preset at `body_eq` 0) should stay this close to the
+/// recording's (dB RMS): the held-out check of issue #25 wants 8 dB; 7 leaves a margin for
+/// other seeds and lengths.
+pub const OWN_SPECTRUM_TARGET_DB: f64 = 7.0;
+/// Loss added per dB the model's own spectrum lies beyond [`OWN_SPECTRUM_TARGET_DB`]: the
+/// body EQ colours, the model (micro-roughness, its tone, the object and the ball) must
+/// carry the brightness. Measured on the texture corpus: at 0.1 per dB beyond 6 dB the
+/// own spectrum came within 8 dB on 5 more clips but the four measures got worse on 8 of 12
+/// (the term outweighed them); 0.07 beyond 7 dB costs nothing where the bar is met.
+pub const OWN_SPECTRUM_WEIGHT: f64 = 0.07;
 
 /// Spectral centroid (Hz) of a third-octave spectrum heard through `curve`.
 pub fn centroid_hz(s: &LongTermSpectrum, curve: &EqCurve) -> f64 {
@@ -86,13 +103,28 @@ pub fn render(target: &Target, params: &Params, seed: u32) -> Vec<f64> {
     out.iter().map(|&s| f64::from(s)).collect()
 }
 
-/// The body EQ that brings the mean spectrum of `renders` onto the recording's.
-pub fn curve_for(target: &Target, renders: &[Vec<f64>]) -> EqCurve {
+/// The long-term spectra of `renders` (the model's own, before any EQ).
+pub fn spectra_of(target: &Target, renders: &[Vec<f64>]) -> Vec<LongTermSpectrum> {
     let top = target.reference.top_hz;
-    let spectra: Vec<_> = renders
+    renders
         .iter()
         .map(|r| long_term_spectrum(r, target.sample_rate_hz, top))
-        .collect();
+        .collect()
+}
+
+/// The model's own spectrum's distance from the recording's (dB RMS over the bands
+/// compared, `trundle compare`'s spectrum measure), the mean over `spectra`: what a preset
+/// plays at `body_eq` 0.
+pub fn own_spectrum_db(target: &Target, spectra: &[LongTermSpectrum]) -> f64 {
+    spectra
+        .iter()
+        .map(|s| spectrum_distance_db(&target.reference.spectrum, s).1)
+        .sum::<f64>()
+        / spectra.len().max(1) as f64
+}
+
+/// The body EQ that brings the mean of the renders' `spectra` onto the recording's.
+pub fn curve_for(target: &Target, spectra: &[LongTermSpectrum]) -> EqCurve {
     let bands_hz = target.reference.spectrum.centres_hz.clone();
     let gain_db = bands_hz
         .iter()
@@ -113,9 +145,11 @@ pub fn curve_for(target: &Target, renders: &[Vec<f64>]) -> EqCurve {
 /// through that curve instead, e.g. a match's at new seeds).
 pub fn judge(target: &Target, params: &Params, seeds: &[u32], curve: Option<&EqCurve>) -> Judged {
     let mut renders: Vec<Vec<f64>> = seeds.iter().map(|&s| render(target, params, s)).collect();
+    let spectra = spectra_of(target, &renders);
+    let own_spectrum_db = own_spectrum_db(target, &spectra);
     let curve = curve
         .cloned()
-        .unwrap_or_else(|| curve_for(target, &renders));
+        .unwrap_or_else(|| curve_for(target, &spectra));
     let brightness = {
         let mut fast = *params;
         fast.set_clamped(ParamId::Velocity, 1.5 * params.get(ParamId::Velocity));
@@ -145,7 +179,9 @@ pub fn judge(target: &Target, params: &Params, seeds: &[u32], curve: Option<&EqC
     let mean = losses.iter().sum::<f64>() / losses.len().max(1) as f64;
     let max = losses.iter().cloned().fold(0.0, f64::max);
     let loss = if mean.is_finite() {
-        0.5 * (mean + max) + BRIGHTNESS_WEIGHT * (MIN_BRIGHTNESS - brightness).max(0.0)
+        0.5 * (mean + max)
+            + BRIGHTNESS_WEIGHT * (MIN_BRIGHTNESS - brightness).max(0.0)
+            + OWN_SPECTRUM_WEIGHT * (own_spectrum_db - OWN_SPECTRUM_TARGET_DB).max(0.0)
     } else {
         f64::INFINITY
     };
@@ -155,6 +191,7 @@ pub fn judge(target: &Target, params: &Params, seeds: &[u32], curve: Option<&EqC
         comparisons,
         loss,
         brightness,
+        own_spectrum_db,
     }
 }
 
@@ -164,8 +201,9 @@ pub struct Plan<'a> {
     pub dims: &'a [Dim],
     /// The starting parameters (the cue's action set on the defaults).
     pub start: Params,
-    /// The restarts (start corner and discrete choices), in order.
-    pub restarts: Vec<Restart>,
+    /// The starts screened (restarts' corners and discrete choices, the first estimates of
+    /// the textures), in order.
+    pub starts: Vec<Params>,
     /// Seeds every candidate is rendered at.
     pub seeds: Vec<u32>,
     /// Candidates in all (each rendered at every seed).
@@ -184,14 +222,83 @@ pub struct Found {
     pub evaluations: usize,
 }
 
-/// Initial CMA-ES step (of the unit box): wide enough to leave a wrong corner, narrow
-/// enough that a generation stays near a good start (0.3 explored too far in 16
-/// dimensions: 150 candidates did not find their way back to the start's own loss).
-pub const SIGMA0: f64 = 0.2;
+/// Initial CMA-ES step (of the unit box). Measured on the texture corpus: at 0.2 (26
+/// controls) every candidate moved every control by about a fifth of its range at once, the
+/// texture controls off their zero by reflection, and on 2 of the first 6 clips no candidate
+/// of 150 beat the start; the sweeps ([`SWEEP_STEPS`]) make the large single moves, the
+/// CMA-ES refines around them.
+pub const SIGMA0: f64 = 0.1;
 
-/// Run the search on `pool`, ticking `bar` per candidate: every restart's start is judged
-/// (screening), then CMA-ES runs from the best start with what is left of the budget, and
-/// from the next best if it stops early.
+/// Steps (of the unit box) of the coordinate sweeps run from the best start before the
+/// CMA-ES: every control moved alone by −step and +step (e.g. asymmetry from 0.3 to 0, which
+/// took a steady tyre clip's modulation distance from 6.1 to 4.1 dB), the improving moves
+/// combined.
+pub const SWEEP_STEPS: [f64; 2] = [0.3, 0.12];
+
+/// One coordinate sweep from `best`: each control moved by ±`step` alone (in parallel),
+/// then every control's improving move at once; the best of all and the candidates judged.
+fn sweep(
+    best: Judged,
+    step: f64,
+    dims: &[Dim],
+    judge_all: &dyn Fn(&[Params]) -> Vec<Judged>,
+) -> (Judged, usize) {
+    let x0 = match_space::point_of(dims, &best.params);
+    let mut moves = Vec::new();
+    for (i, &u) in x0.iter().enumerate() {
+        for v in [u - step, u + step] {
+            let v = v.clamp(0.0, 1.0);
+            if (v - u).abs() > 1e-9 {
+                moves.push((i, v));
+            }
+        }
+    }
+    let ps: Vec<Params> = moves
+        .iter()
+        .map(|&(i, v)| {
+            let mut x = x0.clone();
+            x[i] = v;
+            match_space::params_at(dims, &x, &best.params)
+        })
+        .collect();
+    let judged = judge_all(&ps);
+    let mut evaluations = judged.len();
+    // Each control's best improving move.
+    let mut combined = x0.clone();
+    let mut improving = 0;
+    for (i, c) in combined.iter_mut().enumerate() {
+        let better = moves
+            .iter()
+            .zip(&judged)
+            .filter(|((k, _), j)| *k == i && j.loss < best.loss)
+            .min_by(|a, b| a.1.loss.total_cmp(&b.1.loss));
+        if let Some(((_, v), _)) = better {
+            *c = *v;
+            improving += 1;
+        }
+    }
+    let mut out = best;
+    for j in judged {
+        if j.loss < out.loss {
+            out = j;
+        }
+    }
+    if improving >= 2 {
+        let p = match_space::params_at(dims, &combined, &out.params);
+        let j = judge_all(&[p]);
+        evaluations += 1;
+        for j in j {
+            if j.loss < out.loss {
+                out = j;
+            }
+        }
+    }
+    (out, evaluations)
+}
+
+/// Run the search on `pool`, ticking `bar` per candidate: every start is judged
+/// (screening), the best is improved by the coordinate sweeps, then CMA-ES runs from it with
+/// what is left of the budget, and from the next best start if it stops early.
 pub fn search(target: &Target, plan: &Plan, pool: &rayon::ThreadPool, bar: &ProgressBar) -> Found {
     let judge_all = |ps: &[Params]| -> Vec<Judged> {
         pool.install(|| {
@@ -204,15 +311,22 @@ pub fn search(target: &Target, plan: &Plan, pool: &rayon::ThreadPool, bar: &Prog
                 .collect()
         })
     };
-    let starts: Vec<Params> = plan
-        .restarts
-        .iter()
-        .map(|r| match_space::with_restart(&plan.start, r))
-        .collect();
-    let mut screened: Vec<Judged> = judge_all(&starts);
+    let mut screened: Vec<Judged> = judge_all(&plan.starts);
     let mut evaluations = screened.len();
-    let mut best: Option<Judged> = None;
     screened.sort_by(|a, b| a.loss.total_cmp(&b.loss));
+    let mut best: Option<Judged> = None;
+    if let Some(first) = screened.first().cloned() {
+        let mut b = first;
+        for step in SWEEP_STEPS {
+            if b.loss <= plan.target_loss || evaluations + 2 * plan.dims.len() + 1 > plan.budget {
+                break;
+            }
+            let (j, n) = sweep(b, step, plan.dims, &judge_all);
+            evaluations += n;
+            b = j;
+        }
+        screened[0] = b;
+    }
     for (k, start) in screened.iter().enumerate() {
         if best.as_ref().is_some_and(|b| b.loss <= plan.target_loss) || evaluations >= plan.budget {
             break;

@@ -77,9 +77,9 @@ pub const SPACE: &[Axis] = &[
     axis("crackle"),
     axis("crackle_level"),
     axis("bumpiness"),
-    axis("bump_rate_hz"),
+    ranged("bump_rate_hz", 0.25, 8.0, true),
     axis("strokes"),
-    axis("stroke_rate_hz"),
+    ranged("stroke_rate_hz", 0.3, 8.0, true),
     axis("stroke_shape"),
     axis("wander"),
 ];

@@ -1,0 +1,210 @@
+//! Where `trundle match` starts: first estimates of the texture controls read off the
+//! recording's profile (the analysis `trundle compare` makes once), so that the search
+//! begins near the recording's slow textures instead of at a steady, dull default.
+//!
+//! ```text
+//! profile ─► modulation spectrum: a peak at 0.5–8 Hz all bands share ─► strokes at that rate
+//!         ─► cross-band envelope correlation high, no peak              ─► bumpiness
+//!         ─► envelope spread (σ/μ) over a steady noise's                ─► wander
+//!         ─► waveform kurtosis over a Gaussian's                        ─► crackle
+//!         ─► always: the contact's high band (micro), so a faster ball is brighter and the
+//!            model's own spectrum, not the body EQ, carries the brightness
+//! ```
+//!
+//! Each rule reads a statistic the corresponding control was made to move (docs/MODEL.md,
+//! "Textures real contact has": strokes put a modulation peak at their rate, bumps raise
+//! the cross-band correlation, wander the envelopes' spread and skew, crackle the kurtosis);
+//! the thresholds are where a steady Trundle roll or rub sits (its spread 0.16, correlation
+//! 0.29, kurtosis 3.6), so a recording no more textured than that starts without the control.
+//! The search moves every one of them afterwards; these only choose where it begins.
+
+use trundle_dsp::analysis::compare::modulation::MODULATION_CENTRES_HZ;
+use trundle_dsp::analysis::compare::Profile;
+use trundle_dsp::{ParamId, Params};
+
+/// Micro-roughness every start has: half way, a high band that grows with speed.
+pub const START_MICRO: f64 = 0.5;
+/// A modulation peak this far (dB) over its neighbours, in the mean over the bands, reads as
+/// strokes.
+pub const STROKE_PEAK_DB: f64 = 2.0;
+/// Mean cross-band envelope correlation over which bumps start (a steady roll's is 0.29).
+pub const BUMPY_CORRELATION: f64 = 0.4;
+/// Mean envelope spread σ/μ of a steady roll (docs/MODEL.md, wander): wander starts above.
+pub const STEADY_SPREAD: f64 = 0.16;
+/// Waveform kurtosis over which crackle starts (real rubs 3.6–4.7, a stylus 7.6).
+pub const CRACKLY_KURTOSIS: f64 = 5.0;
+
+/// What the profile suggests, each as a value of its control.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Estimate {
+    /// Strokes: depth and rate (Hz), when the modulation spectrum has a peak.
+    pub strokes: Option<(f64, f64)>,
+    /// Bumpiness, when every band moves together without a stroke peak.
+    pub bumpiness: Option<f64>,
+    /// Wander, when the envelopes spread more than a steady roll's.
+    pub wander: Option<f64>,
+    /// Crackle, when the waveform is heavy-tailed.
+    pub crackle: Option<f64>,
+}
+
+/// Mean over the envelope bands of each modulation band's power (dB), `None` where no band
+/// holds it.
+fn mean_modulation(p: &Profile) -> Vec<Option<f64>> {
+    (0..MODULATION_CENTRES_HZ.len())
+        .map(|k| {
+            let v: Vec<f64> = p.modulation.iter().filter_map(|b| b[k]).collect();
+            (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64)
+        })
+        .collect()
+}
+
+fn mean(v: &[f64]) -> Option<f64> {
+    (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64)
+}
+
+/// The estimate of `p` (a recording's profile).
+pub fn estimate(p: &Profile) -> Estimate {
+    let m = mean_modulation(p);
+    // A stroke peak: a modulation band at 0.5–8 Hz over both its neighbours.
+    let mut strokes = None;
+    let mut best = STROKE_PEAK_DB;
+    for k in 0..m.len() {
+        if MODULATION_CENTRES_HZ[k] > 8.0 {
+            break;
+        }
+        let Some(here) = m[k] else { continue };
+        let around: Vec<f64> = [k.checked_sub(1), Some(k + 1)]
+            .iter()
+            .flatten()
+            .filter_map(|&j| m.get(j).copied().flatten())
+            .collect();
+        if around.is_empty() {
+            continue;
+        }
+        let over = here - around.iter().cloned().fold(f64::MIN, f64::max);
+        if over > best {
+            best = over;
+            // Deeper strokes for a sharper peak (9 dB over the neighbours at depth 1,
+            // docs/MODEL.md).
+            strokes = Some(((0.3 + over / 12.0).min(1.0), MODULATION_CENTRES_HZ[k]));
+        }
+    }
+    let correlation = mean(&p.stats.correlation).unwrap_or(0.0);
+    let bumpiness = (strokes.is_none() && correlation > BUMPY_CORRELATION)
+        .then(|| (0.3 + (correlation - BUMPY_CORRELATION)).min(1.0));
+    let spread = mean(&p.stats.spread).unwrap_or(0.0);
+    // Spread 0.16 → 0.29 from wander 0 to 1 on a roll (docs/MODEL.md).
+    let wander =
+        (spread > STEADY_SPREAD + 0.03).then(|| ((spread - STEADY_SPREAD) / 0.13).clamp(0.2, 1.0));
+    let crackle = (p.kurtosis > CRACKLY_KURTOSIS)
+        .then(|| (0.2 + 0.1 * (p.kurtosis - CRACKLY_KURTOSIS)).min(1.0));
+    Estimate {
+        strokes,
+        bumpiness,
+        wander,
+        crackle,
+    }
+}
+
+impl Estimate {
+    /// Does the estimate set any texture control?
+    pub fn is_empty(&self) -> bool {
+        self.strokes.is_none()
+            && self.bumpiness.is_none()
+            && self.wander.is_none()
+            && self.crackle.is_none()
+    }
+
+    /// `p` with the estimate's controls set.
+    pub fn apply(&self, p: &Params) -> Params {
+        let mut q = *p;
+        if let Some((depth, rate_hz)) = self.strokes {
+            q.set_clamped(ParamId::Strokes, depth);
+            q.set_clamped(ParamId::StrokeRateHz, rate_hz);
+        }
+        if let Some(b) = self.bumpiness {
+            q.set_clamped(ParamId::Bumpiness, b);
+        }
+        if let Some(w) = self.wander {
+            q.set_clamped(ParamId::Wander, w);
+        }
+        if let Some(c) = self.crackle {
+            q.set_clamped(ParamId::Crackle, c);
+        }
+        q
+    }
+
+    /// One line for the report.
+    pub fn describe(&self) -> String {
+        let mut parts = Vec::new();
+        if let Some((d, r)) = self.strokes {
+            parts.push(format!("strokes {d:.2} at {r} Hz"));
+        }
+        if let Some(b) = self.bumpiness {
+            parts.push(format!("bumpiness {b:.2}"));
+        }
+        if let Some(w) = self.wander {
+            parts.push(format!("wander {w:.2}"));
+        }
+        if let Some(c) = self.crackle {
+            parts.push(format!("crackle {c:.2}"));
+        }
+        if parts.is_empty() {
+            "steady".into()
+        } else {
+            parts.join(", ")
+        }
+    }
+}
+
+/// The starts screened: every restart's parameters with the high band, and again with the
+/// estimate's textures when it has any.
+pub fn starts(restarts: &[Params], e: &Estimate) -> Vec<Params> {
+    let mut out = Vec::with_capacity(2 * restarts.len());
+    for p in restarts {
+        let mut q = *p;
+        q.set_clamped(ParamId::Micro, START_MICRO);
+        if !e.is_empty() {
+            out.push(e.apply(&q));
+        }
+        out.push(q);
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use trundle_dsp::analysis::compare::profile;
+
+    fn noise(n: usize, seed: u64) -> Vec<f64> {
+        let mut s = seed;
+        (0..n)
+            .map(|_| {
+                // Sum of four uniforms: near-Gaussian, enough for envelopes.
+                (0..4)
+                    .map(|_| trundle_dsp::block::splitmix_uniform(&mut s) - 0.5)
+                    .sum::<f64>()
+            })
+            .collect()
+    }
+
+    /// Steady noise starts steady; noise swelling at 2 Hz in every band reads as strokes at
+    /// 2 Hz.
+    #[test]
+    fn strokes_are_read_off_a_modulation_peak() {
+        let fs = 16_000.0;
+        let x = noise(4 * 16_000, 3);
+        let steady = estimate(&profile(&x, fs, 8000.0, "recording").unwrap());
+        assert!(steady.strokes.is_none(), "{steady:?}");
+        assert!(steady.crackle.is_none(), "{steady:?}");
+        let swelling: Vec<f64> = x
+            .iter()
+            .enumerate()
+            .map(|(i, v)| v * (core::f64::consts::TAU * 1.0 * i as f64 / fs).sin().abs())
+            .collect();
+        let e = estimate(&profile(&swelling, fs, 8000.0, "recording").unwrap());
+        let (_, rate) = e.strokes.expect("a stroke peak");
+        assert_eq!(rate, 2.0, "{e:?}");
+    }
+}
