@@ -10,6 +10,7 @@
 //! | `voice_no_high_band_ns_per_sample` | the same voice with the object's high band switched off |
 //! | `high_band_cost_ratio` | the first over the second: what the full band costs (target ≤ 1.3) |
 //! | `physics_ns_per_sample` | the same with `engine = physics` |
+//! | `friction_ns_per_sample` | the same with `friction = 1` (the stick-slip contact on the object's 32 modes, [`trundle_dsp::physics::friction`]; pressure 1 N, finger, V = 0.5 m/s) |
 //! | `scene16_ns_per_sample` | 16 default voices (seeds 1…16) summed: sixteen balls on sixteen objects |
 //! | `balls16_ns_per_sample` | one voice with 16 extra balls on its object ([`trundle_dsp::scene::balls`]) |
 //! | `balls_1000_ns_per_sample`, `balls_1000_realtime_factor` | one voice with `crowd = 1000` ([`trundle_dsp::scene::crowd`]: 8 detailed balls, 991 merged) on its 32-mode object, and its real-time factor on one core (target ≥ 2) |
@@ -310,6 +311,8 @@ struct Report {
     modal: Vec<(usize, f64)>,
     voice: Vec<(usize, f64)>,
     physics: f64,
+    /// The 32-mode voice with `friction = 1`.
+    friction: f64,
     source: f64,
     scene16: f64,
     balls16: f64,
@@ -351,6 +354,10 @@ fn measure(quick: bool) -> Result<Report, CliError> {
         without_hb = without_hb.min(voices_ns(budget, &mut off));
     }
     let physics = voices_ns(budget, &mut [warm_voice(&params(32, "physics", 1)?)]);
+    let mut rub = params(32, "signal", 1)?;
+    rub.set(ParamId::Friction, 1.0)
+        .map_err(|e| failure(format!("bench parameters: {e}")))?;
+    let friction = voices_ns(budget, &mut [warm_voice(&rub)]);
     let source = source_ns(budget);
     let mut sixteen = (1..=16)
         .map(|seed| params(32, "signal", seed).map(|p| warm_voice(&p)))
@@ -388,6 +395,7 @@ fn measure(quick: bool) -> Result<Report, CliError> {
         modal,
         voice,
         physics,
+        friction,
         source,
         scene16,
         balls16,
@@ -474,6 +482,11 @@ fn table(r: &Report) -> String {
         realtime(r.physics)
     );
     s += &format!(
+        "friction, 32 modes    {:>9.1} ns/sample   real-time ×{:.0}\n",
+        r.friction,
+        realtime(r.friction)
+    );
+    s += &format!(
         "16 voices summed      {:>9.1} ns/sample   real-time ×{:.0}\n",
         r.scene16,
         realtime(r.scene16)
@@ -532,6 +545,7 @@ fn to_json(r: &Report) -> String {
         "voice_realtime_factor": realtime(voice32),
         "voices_per_core": realtime(voice32).floor(),
         "physics_ns_per_sample": r.physics,
+        "friction_ns_per_sample": r.friction,
         "source_ns_per_sample": r.source,
         "scene16_ns_per_sample": r.scene16,
         "balls16_ns_per_sample": r.balls16,

@@ -36,6 +36,7 @@ mod error;
 mod fit_cmd;
 mod fit_plot;
 mod fit_roll;
+mod friction_map;
 mod level;
 mod list;
 mod match_cmd;
@@ -95,6 +96,9 @@ enum Command {
     Tradeoff(tradeoff::TradeoffArgs),
     /// Measure what Trundle costs on this machine (ns per sample, real-time factor).
     Bench(bench::BenchArgs),
+    /// Map which of the object's modes a stick-slip rub locks onto, by pressure and speed
+    /// (a Schelleng-style map: text and a PNG).
+    FrictionMap(friction_map::FrictionMapArgs),
     /// Fit an object (modes + residual envelope) to one recorded strike (WAV/FLAC/OGG).
     FitObject(fit_cmd::FitObjectArgs),
     /// Fit a preset (roughness, size, velocity, action) to a recorded roll, rub or scratch.
@@ -139,6 +143,7 @@ fn main() -> ExitCode {
         Command::Calibrate(args) => calibrate::run(args).and_then(|t| emit(&t)),
         Command::Tradeoff(args) => tradeoff::run(args).and_then(|t| emit(&t)),
         Command::Bench(args) => bench::run(args).and_then(|t| emit(&t)),
+        Command::FrictionMap(args) => friction_map::run(args).and_then(|t| emit(&t)),
         Command::FitObject(args) => fit_cmd::run(args).and_then(|t| emit(&t)),
         Command::FitRoll(args) => fit_roll::run(args).and_then(|t| emit(&t)),
         Command::Spectrum(args) => spectrum::run(args).and_then(|t| emit(&t)),

@@ -39,7 +39,7 @@
 //! | [`analysis`] | impact extraction, ARMA(1,1) Gauss–Newton fit, residual statistics; the Toeplitz solver | TASLP §IV-B, §IV-E; Levinson 1947 |
 //! | [`object`] | the resonant object: shape × material × size → a Mathews–Smith phasor bank heard at two pickups, a high band, fitted objects | CMJ "Object part"; Mathews & Smith 2003; Aramaki 2011 |
 //! | [`source`] | the signal model of the force: impact series (Table I, the action disk), pulses, AM, low-pass, Hertz contact; the contact's high band (micro-roughness) and crackle | TASLP §IV–V, Fig. 5; Johnson §11.4 |
-//! | [`physics`] | fractal surface, Rath's rolling filter, Hunt–Crossley ball (RK4); the controls mapped onto it | TASLP §II-A, §III; Rath 2003 |
+//! | [`physics`] | fractal surface, Rath's rolling filter, Hunt–Crossley ball (RK4); the controls mapped onto it; the elasto-plastic stick-slip friction contact on the object's modes | TASLP §II-A, §III; Rath 2003; Dupont et al. 2002; Avanzini, Serafin & Rocchesso 2005 |
 //! | [`scene`] | the voice and what it plays: balls, crowd, gestures, space, engine mix, limiter, events, presets | — |
 //! | `fit` (feature `fit`) | modal analysis of a recorded strike (band-split ESPRIT), residual envelope, roll fitting | Roy & Kailath 1989; Hua & Sarkar 1990 |
 //!

@@ -6,7 +6,7 @@
 use trundle_dsp::params::spec_by_key;
 use trundle_dsp::params::{
     AsymmetryLaw, BallMaterial, ChoiceRow, Engine, GestureKind, Limiting, Output, ParamKind,
-    Quality, Shape, Trajectory, PARAMS, PARAM_COUNT,
+    Quality, RubBody, Shape, Trajectory, PARAMS, PARAM_COUNT,
 };
 use trundle_dsp::{ParamId, Params};
 
@@ -55,7 +55,8 @@ fn every_choice_row_spans_exactly_its_variants() {
     choice_row_matches_its_enum::<Limiting>();
     choice_row_matches_its_enum::<BallMaterial>();
     choice_row_matches_its_enum::<GestureKind>();
-    // And every enumeration row is one of those nine.
+    choice_row_matches_its_enum::<RubBody>();
+    // And every enumeration row is one of those ten.
     let enum_rows: Vec<ParamId> = PARAMS
         .iter()
         .filter(|s| matches!(s.kind, ParamKind::Enum(_)))
@@ -71,6 +72,7 @@ fn every_choice_row_spans_exactly_its_variants() {
         Limiting::ID,
         BallMaterial::ID,
         GestureKind::ID,
+        RubBody::ID,
     ];
     expected.sort_by_key(|&id| id as usize);
     assert_eq!(enum_rows, expected);

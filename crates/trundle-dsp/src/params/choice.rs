@@ -230,3 +230,23 @@ choice! {
         Spin = "spin",
     }
 }
+
+choice! {
+    /// What rubs the object in the stick-slip friction contact (the `rub_body` parameter;
+    /// each variant's bristle and friction constants and their justification:
+    /// `crate::physics::friction_body`).
+    #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+    pub enum RubBody {
+        /// A wet fingertip (a finger round a wine glass's rim).
+        #[default]
+        Finger = "finger",
+        /// A rubber sole or eraser.
+        Rubber = "rubber",
+        /// A stick of chalk.
+        Chalk = "chalk",
+        /// Dry steel on metal (a hinge pin, a scraper).
+        Steel = "steel",
+        /// Rosined horsehair (a bow).
+        Rosin = "rosin",
+    }
+}

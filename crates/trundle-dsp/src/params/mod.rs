@@ -33,8 +33,8 @@ mod text;
 mod values;
 
 pub use choice::{
-    AsymmetryLaw, BallMaterial, Engine, GestureKind, Limiting, Output, ParamEnum, Quality, Shape,
-    Trajectory,
+    AsymmetryLaw, BallMaterial, Engine, GestureKind, Limiting, Output, ParamEnum, Quality, RubBody,
+    Shape, Trajectory,
 };
 pub use place::{Group, Page, Panel, Place, Section};
 pub use table::{ChoiceRow, ParamId, Values, PARAMS, PARAM_COUNT};
@@ -318,6 +318,10 @@ impl Params {
     }
     /// What the ball is made of.
     pub fn ball_material(&self) -> BallMaterial {
+        self.variant()
+    }
+    /// What rubs the object in the friction contact.
+    pub fn rub_body(&self) -> RubBody {
         self.variant()
     }
     /// The gesture (roll, drop, spin).

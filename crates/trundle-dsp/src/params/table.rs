@@ -7,8 +7,8 @@
 //! and saved states follow the table).
 
 use super::choice::{
-    AsymmetryLaw, BallMaterial, Engine, GestureKind, Limiting, Output, ParamEnum, Quality, Shape,
-    Trajectory,
+    AsymmetryLaw, BallMaterial, Engine, GestureKind, Limiting, Output, ParamEnum, Quality, RubBody,
+    Shape, Trajectory,
 };
 use super::place::{at, Group, Panel, Section};
 use super::ParamSpec;
@@ -641,5 +641,38 @@ schema! {
         place: at(Panel::Object, Section::Knobs, "Body EQ"),
         group: None,
         doc: "How much of the object's body EQ curve plays (a preset's third-octave correction, set by trundle match): its band gains scaled in dB; 0 = the model's own spectrum, 1 = as matched; with no curve it does nothing (docs/MODEL.md, Body EQ)",
+    },
+    /// The stick-slip friction contact's share of the force ([`crate::physics::friction`]).
+    Friction {
+        key: "friction",
+        name: "Friction",
+        unit: "",
+        values: percent(0.0, 1.0),
+        default: 0.0,
+        place: at(Panel::Motion, Section::Surface, "Friction"),
+        group: None,
+        doc: "Stick-slip friction (elasto-plastic bristles, Dupont 2002; coupled to the object's modes as Avanzini, Serafin & Rocchesso 2005): the rubbing body drawn at velocity V m/s under pressure_n sticks and slips in step with one of the object's own modes (squeaks, creaks, a finger on a glass); blended over the engine's force: 0 = off and free, 1 = the friction force alone",
+    },
+    /// Normal force of the rubbing body on the object (N).
+    PressureN {
+        key: "pressure_n",
+        name: "Pressure",
+        unit: "N",
+        values: log(0.05, 20.0),
+        default: 1.0,
+        place: at(Panel::Motion, Section::Surface, "Pressure"),
+        group: None,
+        doc: "Normal force of the rubbing body on the object (friction > 0): static and Coulomb friction are mu_s and mu_c times it; light = a free or noisy rub, heavier = a lower mode locks, too heavy = a raucous crush (the map in docs/guide/friction.md)",
+    },
+    /// What rubs the object ([`crate::physics::friction_body`]).
+    RubBody {
+        key: "rub_body",
+        name: "Rubbing body",
+        unit: "",
+        values: choice::<RubBody>(),
+        default: 0.0,
+        place: at(Panel::Motion, Section::Surface, "Rubbing body"),
+        group: None,
+        doc: "What rubs the object (friction > 0), each a set of bristle stiffness and damping, viscous friction, static and Coulomb coefficients, Stribeck velocity and break-away: finger (wet skin), rubber, chalk, steel (dry metal), rosin (a bow's hair)",
     },
 }

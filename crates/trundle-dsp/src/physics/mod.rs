@@ -72,6 +72,8 @@
 use crate::physics::profile::{rolling_half_width, FractalProfile, RollingFilter, MAX_HALF_WIDTH};
 
 mod contact;
+pub mod friction;
+pub mod friction_body;
 mod health;
 mod integrator;
 pub mod mapping;

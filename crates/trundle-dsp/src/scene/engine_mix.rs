@@ -35,12 +35,21 @@
 //!   its peak, the peak force in units of the ball's weight, the contact's duration (to the
 //!   output sample).
 //!
+//! * **Friction** (`friction` > 0, [`crate::physics::friction`]). The stick-slip contact runs
+//!   on the voice's object's own modes (read each chunk) with the rubbing body drawn at the
+//!   velocity V; its force on the object (in units of [`FRICTION_FORCE_REF_N`]) is blended
+//!   over the engine's force by the `friction` amount (smoothed). At 0 it does not run and
+//!   the force is the engine's, bit for bit.
+//!
 //! Lifecycle as every DSP type ([`crate`] docs): [`EngineMix::new`] allocates (the physics
 //! engine); the rest is real-time safe.
 
 use crate::block::CHUNK;
 use crate::object::quality::Quality;
-use crate::params::Params;
+use crate::object::resonator::Object;
+use crate::params::{ParamId, Params};
+use crate::physics::friction::{contact_mass_kg, Friction};
+use crate::physics::friction_body::FrictionBody;
 use crate::physics::mapping::{
     auto_oversample, quality_oversample, Engine, PhysicsControls, ENGINE_CROSSFADE_S,
     PHYSICS_FORCE_SCALE,
@@ -53,6 +62,10 @@ use crate::stage::Stage;
 /// Averaging time of the level match between the engines (s): long enough that the gain
 /// does not follow single impacts or the AM, short enough to follow a gesture.
 pub const LEVEL_MATCH_S: f64 = 0.5;
+
+/// The friction force (N) that the voice hands on as a force of 1 (the signal model's
+/// forces are of order 1): a rub at 1 N of pressure is about as loud as a roll.
+pub const FRICTION_FORCE_REF_N: f64 = 1.0;
 
 /// The running sound powers of the two engines and the gain that matches them.
 #[derive(Clone, Copy, Debug)]
@@ -131,6 +144,13 @@ pub struct EngineMix {
     /// The contact under way: (start sample, peak sample, peak force / weight).
     contact: Option<(u64, u64, f32)>,
     log: ImpactLog,
+    /// The stick-slip contact ([`crate::physics::friction`]).
+    friction: Friction,
+    /// The friction amount (0 = off), smoothed.
+    friction_amount: Smoother,
+    /// The bow velocity at the end of the last friction chunk (m/s).
+    bow_m_s: f64,
+    friction_force: [f32; CHUNK],
 }
 
 fn mix_target(p: &Params) -> f32 {
@@ -170,6 +190,57 @@ impl EngineMix {
             samples: 0,
             contact: None,
             log: ImpactLog::new(),
+            friction: Self::friction_for(fs, params),
+            friction_amount: Smoother::new(params.get(ParamId::Friction)),
+            bow_m_s: params.velocity(),
+            friction_force: [0.0; CHUNK],
+        }
+    }
+
+    fn friction_for(fs: f64, params: &Params) -> Friction {
+        let mut f = Friction::new(fs);
+        Self::friction_controls(&mut f, params);
+        f
+    }
+
+    fn friction_controls(f: &mut Friction, params: &Params) {
+        f.set_contact(
+            FrictionBody::of(params.rub_body()),
+            params.get(ParamId::PressureN),
+        );
+        f.set_mass(contact_mass_kg(params.get(ParamId::ObjectSize)));
+    }
+
+    /// The stick-slip contact, for inspection.
+    pub fn friction(&self) -> &Friction {
+        &self.friction
+    }
+
+    /// The friction contact runs (its amount or its target is not 0).
+    pub fn friction_on(&self) -> bool {
+        self.friction_amount.value() != 0.0 || self.friction_amount.target() != 0.0
+    }
+
+    /// Blend the friction force over the engine's `force` (module docs), the bow at the
+    /// source's velocity `bow_m_s` at the chunk's end.
+    fn friction_chunk(&mut self, object: &Object, bow_m_s: f64, force: &mut [f32; CHUNK]) {
+        if !self.friction_on() {
+            return;
+        }
+        self.friction.set_object_modes(object.modes());
+        let (b0, b1) = (self.bow_m_s, bow_m_s);
+        self.bow_m_s = bow_m_s;
+        self.friction.process(b0, b1, &mut self.friction_force);
+        let (a0, a1) = self.friction_amount.advance(CHUNK, self.fs);
+        let step = (a1 - a0) / CHUNK as f64;
+        let scale = 1.0 / FRICTION_FORCE_REF_N;
+        for (i, (y, fr)) in force.iter_mut().zip(&self.friction_force).enumerate() {
+            let a = (a0 + step * (i + 1) as f64) as f32;
+            *y = (1.0 - a) * *y + a * (f64::from(*fr) * scale) as f32;
+        }
+        if !self.friction_on() {
+            // Off again: the next start is from rest.
+            self.friction.reset();
         }
     }
 
@@ -232,6 +303,7 @@ impl EngineMix {
     /// A new sample rate (already sanitized); call [`EngineMix::reset`] after it.
     pub fn set_sample_rate(&mut self, fs: f64) {
         self.fs = fs;
+        self.friction.set_sample_rate(fs);
         self.apply();
     }
 
@@ -246,11 +318,14 @@ impl EngineMix {
         self.applied_gain = 1.0;
         self.contact = None;
         self.log.clear();
+        self.friction.reset();
+        self.friction_amount.snap_to_target();
     }
 
     /// Jump the crossfade to its target (the start of a render).
     pub fn snap(&mut self) {
         self.mix = self.mix_target;
+        self.friction_amount.snap_to_target();
     }
 
     /// New targets from `params`; `seed_changed` restarts the physics engine's surface.
@@ -276,6 +351,9 @@ impl EngineMix {
             self.apply();
         }
         self.mix_target = mix_target(params);
+        Self::friction_controls(&mut self.friction, params);
+        self.friction_amount
+            .set_target(params.get(ParamId::Friction));
         if seed_changed {
             // A new surface: the seed of the profile takes effect at the engine's reset.
             self.apply();
@@ -289,9 +367,9 @@ impl EngineMix {
         self.mix_target == 1.0
     }
 
-    /// Only the signal model runs and no crossfade is under way.
+    /// Only the signal model runs, no crossfade is under way and friction is off.
     pub fn signal_only(&self) -> bool {
-        self.mix == 0.0 && self.mix_target == 0.0
+        self.mix == 0.0 && self.mix_target == 0.0 && !self.friction_on()
     }
 
     /// One chunk of the physics force, normalized (see [`crate::physics::mapping`]) into `phys_force`.
@@ -387,8 +465,14 @@ impl EngineMix {
         self.level.gain
     }
 
-    /// One chunk of the force: the source's, the physics engine's, or the crossfade of both.
-    pub fn force_chunk(&mut self, source: &mut Source, force: &mut [f32; CHUNK]) {
+    /// One chunk of the force: the source's, the physics engine's, or the crossfade of both;
+    /// then the friction contact on `object`'s modes blended over it (when on).
+    pub fn force_chunk(&mut self, source: &mut Source, object: &Object, force: &mut [f32; CHUNK]) {
+        self.engine_chunk(source, force);
+        self.friction_chunk(object, source.velocity(), force);
+    }
+
+    fn engine_chunk(&mut self, source: &mut Source, force: &mut [f32; CHUNK]) {
         let (m0, target) = (self.mix, self.mix_target);
         if m0 == 0.0 && target == 0.0 {
             // Signal engine only: exactly the source's force.
@@ -422,7 +506,7 @@ impl EngineMix {
 impl Stage for EngineMix {
     /// The scene ball's source (the signal model, and the physics' level reference) and the
     /// chunk of force written.
-    type Io<'a> = (&'a mut Source, &'a mut [f32; CHUNK]);
+    type Io<'a> = (&'a mut Source, &'a Object, &'a mut [f32; CHUNK]);
 
     fn set_sample_rate(&mut self, sample_rate_hz: f64) {
         EngineMix::set_sample_rate(self, crate::block::sanitize_sample_rate(sample_rate_hz));
@@ -448,8 +532,8 @@ impl Stage for EngineMix {
         self.signal_only()
     }
 
-    fn process(&mut self, (source, force): (&mut Source, &mut [f32; CHUNK])) {
-        self.force_chunk(source, force);
+    fn process(&mut self, (source, object, force): (&mut Source, &Object, &mut [f32; CHUNK])) {
+        self.force_chunk(source, object, force);
     }
 }
 
@@ -474,7 +558,7 @@ mod tests {
         for _ in 0..50 {
             let mut x = [0f32; CHUNK];
             let mut y = [0f32; CHUNK];
-            mix.force_chunk(&mut a, &mut x);
+            mix.engine_chunk(&mut a, &mut x);
             b.process_chunk(&mut y);
             assert_eq!(x, y);
         }
@@ -487,13 +571,13 @@ mod tests {
         let mut mix = EngineMix::new(fs, &params("signal"));
         let mut src = Source::new(fs, SourceControls::default(), 1);
         let mut f = [0f32; CHUNK];
-        mix.force_chunk(&mut src, &mut f);
+        mix.engine_chunk(&mut src, &mut f);
         mix.set_params(&params("physics"), false);
         assert!(!mix.signal_only());
         let chunks = (ENGINE_CROSSFADE_S * fs / CHUNK as f64).ceil() as usize;
         for k in 0..chunks {
             assert!(mix.mix < 1.0, "faded in after {k} chunks");
-            mix.force_chunk(&mut src, &mut f);
+            mix.engine_chunk(&mut src, &mut f);
             assert!(f.iter().all(|x| x.is_finite()));
         }
         // f32 steps of 1/960 sum to just under 1 after 960 samples; the next chunk lands.
@@ -502,12 +586,12 @@ mod tests {
             "the fade lasts {ENGINE_CROSSFADE_S} s: {}",
             mix.mix
         );
-        mix.force_chunk(&mut src, &mut f);
+        mix.engine_chunk(&mut src, &mut f);
         assert_eq!(mix.mix, 1.0);
         // And back.
         mix.set_params(&params("signal"), false);
         for _ in 0..=chunks {
-            mix.force_chunk(&mut src, &mut f);
+            mix.engine_chunk(&mut src, &mut f);
         }
         assert!(mix.signal_only());
     }

@@ -570,7 +570,7 @@ impl Voice {
         }
         let c = &mut self.chain;
         let v_before = c.source.velocity();
-        Stage::process(&mut c.engines, (&mut c.source, &mut self.force));
+        Stage::process(&mut c.engines, (&mut c.source, &c.object, &mut self.force));
         let speed = (v_before, c.source.velocity());
         // The gesture's impacts join the rolling force before the position stage.
         let size = self.params.size();
