@@ -52,10 +52,63 @@ const CPU_S_PER_5_S: f64 = 60.0;
 /// Seconds of a clip `trundle match` matches by default (its middle).
 const MATCH_SECONDS: f64 = 5.0;
 
-/// Clips known to miss a bar today, with why (measured 26 Nov 2026; the table printed by
-/// this test, and docs/guide/match.md, show their numbers). Every other clip must pass every
-/// bar; when one of these comes inside, the test says so and it leaves this list.
-const KNOWN_OUTSIDE: [(&str, &str); 0] = [];
+/// Clips known to miss a bar today, with why (measured 26 Nov 2026 with the default match,
+/// `--jobs 2`, on a shared 2-core machine; docs/guide/match.md shows the table). Every other
+/// clip must pass every bar; when one of these comes inside, the test says so and it leaves
+/// this list.
+const KNOWN_OUTSIDE: [(&str, &str); 12] = [
+    (
+        "tyres on asphalt",
+        "all four at every seed, but not closer than shaped noise: noise already passes this steady clip's modulation and texture (2.76 dB, 0.77); the match reaches 3.11 dB, 0.90",
+    ),
+    (
+        "metal scraping asphalt",
+        "texture 1.35-1.47 (a 1.3 s clip: its units are small), own spectrum 10.2 dB",
+    ),
+    (
+        "hand saw",
+        "the strokes' swells: kurtosis x2.5, crest +3.7 dB, texture 1.55, modulation 4.7 dB",
+    ),
+    (
+        "sawmill",
+        "spectrum 4.6 dB at a seed (its halves differ by 3.3), own spectrum 12.4 dB, x1.05 at 1.5x velocity",
+    ),
+    (
+        "sawmill, steady",
+        "kurtosis x2.9, crest +4.5 dB, texture 2.1, own spectrum 11.1 dB, CPU over budget",
+    ),
+    ("grinding stone", "texture 1.2-1.4 at every seed (3 of 4 measures)"),
+    (
+        "blade on a grindstone",
+        "modulation 6.8 dB, texture 2.6: a grindstone's turning swell over 9.3 s; own spectrum 12.4 dB",
+    ),
+    (
+        "cart on a dirt track",
+        "the knocks of the whole 4 s clip: kurtosis x4.4, crest +3.9 dB, modulation 5.8 dB",
+    ),
+    (
+        "traffic",
+        "kurtosis up to x6.1 (knocks at some seeds), texture 1.14",
+    ),
+    (
+        "bowed cello",
+        "a pitched rub: spectrum 4.3 dB, modulation 8.6 dB (the model has no bowed string; issue #27's friction engine), own spectrum 13.7 dB",
+    ),
+    (
+        "bowed viola",
+        "a pitched rub: spectrum 5.7 dB, modulation 7.1 dB, own spectrum 14.7 dB, CPU over budget",
+    ),
+    (
+        "bowed cello, high",
+        "a pitched rub: spectrum 5.6 dB, modulation 8.0 dB, own spectrum 9.1 dB, CPU over budget",
+    ),
+];
+
+/// Of the whole corpus, how many clips meet each bar today (measured with [`KNOWN_OUTSIDE`]):
+/// all four measures at every seed, closer than shaped noise, own spectrum within 8 dB, 1.5×
+/// brighter. The test fails if a change to `match` loses any of them (the CPU budget is left
+/// out: it depends on the machine).
+const MEASURED: [usize; 4] = [1, 7, 5, 11];
 
 /// One clip's verdicts.
 struct Row {
@@ -398,4 +451,16 @@ fn every_corpus_clip_is_matched_within_the_bar() {
         "outside the bar:\n{}\n{t}",
         failed.join("\n")
     );
+    if rows.len() == CORPUS.len() {
+        let count = |f: &dyn Fn(&Row) -> bool| rows.iter().filter(|r| f(r)).count();
+        let now = [
+            count(&|r| r.all_four() == r.seeds.len()),
+            count(&|r| r.beats_noise()),
+            count(&|r| r.own_spectrum_db <= OWN_SPECTRUM_LIMIT_DB),
+            count(&|r| r.brightness >= MIN_BRIGHTNESS),
+        ];
+        for (k, (n, m)) in now.iter().zip(MEASURED).enumerate() {
+            assert!(*n >= m, "bar {k}: {n} clips, {m} measured before\n{t}");
+        }
+    }
 }
