@@ -356,8 +356,10 @@ pub fn fit_strike_with(
     // Where the bands' amplitudes overshoot a third-octave band of the recording by
     // `joint::OVERSHOOT_DB` or more (skirts that do not cancel), the amplitudes of all
     // modes are solved jointly over the whole decay (`joint`), and kept when they explain
-    // more of it.
+    // more of it. Only a fit that explains something already: 2K free amplitudes lower any
+    // residual a little, and a decaying noise burst must stay a fit that explains nothing.
     if modes.len() <= joint::MAX_MODES
+        && !explained::is_poor(residual_db)
         && joint::overshoot_db(sig, &model, fs) >= joint::OVERSHOOT_DB
     {
         if let Some(mut j) = joint::solve(sig, &modes, fs) {
