@@ -40,12 +40,7 @@ fn glass() -> Params {
 
 /// The object's explicit modes for `p` at `fs`.
 fn object_modes(p: &Params, fs: f64) -> Vec<(f64, f64)> {
-    let o = Object::new(
-        fs,
-        ObjectControls {
-            ..object_controls(p)
-        },
-    );
+    let o = Object::new(fs, object_controls(p));
     o.modes()
         .iter()
         .filter(|m| m.gain != 0.0)
