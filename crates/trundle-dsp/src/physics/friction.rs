@@ -325,7 +325,10 @@ impl Friction {
         // Newton–Raphson on R1 = v − vh + B·f(v, z), R2 = z − zh − h·g(v, z).
         let bb = self.b;
         let (mut v, mut z) = (vh - bb * self.f, self.z);
-        let mut converged = false;
+        // The rate at the solution: from the last Newton step's linearization when it
+        // converged (the step is below the tolerance, so the correction is exact to it),
+        // else evaluated afresh.
+        let mut g_final = None;
         for _ in 0..NEWTON_ITERATIONS {
             let (g, gv, gz) = self.rate(v, z, fs_n, fc_n);
             let f = s0 * z + s1 * g + s2 * v;
@@ -343,15 +346,18 @@ impl Friction {
             let dz = (j11 * r2 - j21 * r1) / det;
             v = (v - dv).clamp(-MAX_VELOCITY_M_S, MAX_VELOCITY_M_S);
             z = (z - dz).clamp(-z_max, z_max);
-            if dv.abs() <= 1e-12 + 1e-9 * v.abs() && dz.abs() <= 1e-9 * z_max {
-                converged = true;
+            if dv.abs() <= 1e-12 + 1e-8 * v.abs() && dz.abs() <= 1e-8 * z_max {
+                g_final = Some(g - gv * dv - gz * dz);
                 break;
             }
         }
-        if !converged {
-            self.unconverged += 1;
-        }
-        let (g, _, _) = self.rate(v, z, fs_n, fc_n);
+        let g = match g_final {
+            Some(g) => g,
+            None => {
+                self.unconverged += 1;
+                self.rate(v, z, fs_n, fc_n).0
+            }
+        };
         let f = s0 * z + s1 * g + s2 * v;
         if !(f.is_finite() && v.is_finite() && z.is_finite()) {
             self.reset();
