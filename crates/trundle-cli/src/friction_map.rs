@@ -4,10 +4,11 @@
 //!
 //! The object, its modes at the ball, the rubbing body and the contact mass are set up as the
 //! voice sets them for the preset (default `finger-on-wine-glass`) and `--set` changes. Each
-//! cell runs the contact alone for 0.5 s (at 48 kHz) and reads its last 0.25 s of force:
+//! cell runs the contact alone for 0.75 s (at 48 kHz) and reads its last 0.25 s of force:
 //!
-//! * **still**: the force's fluctuation is below 10⁻⁴ of the Coulomb friction (a steady
-//!   slide: above a few Stribeck velocities nothing feeds a mode);
+//! * **still**: the force's fluctuation is below 1 % of (μ_s − μ_c)·N, the swing of a
+//!   stick-slip, or dies away over the quarter second (the onset ringing out): a steady
+//!   slide (above a few Stribeck velocities nothing feeds a mode);
 //! * **mode k**: the fundamental (the lowest spectral peak within 20 dB of the strongest)
 //!   lies within 1 % of mode k and at least half the fluctuation's energy sits on its
 //!   harmonics (±1 % each): a periodic stick-slip locked on that mode;
@@ -80,14 +81,18 @@ pub fn classify(p: &Params, pressure_n: f64, speed_m_s: f64, modes: &[f64]) -> (
     c.set_contact(body, pressure_n);
     c.set_object_modes(o.modes());
     let n = (0.25 * FS) as usize;
-    for _ in 0..n {
+    for _ in 0..2 * n {
         c.step(speed_m_s);
     }
     let mut x: Vec<f64> = (0..n).map(|_| c.step(speed_m_s).force_n).collect();
     let mean = x.iter().sum::<f64>() / n as f64;
     x.iter_mut().for_each(|v| *v -= mean);
-    let rms = (x.iter().map(|v| v * v).sum::<f64>() / n as f64).sqrt();
-    if !rms.is_finite() || rms < 1e-4 * body.coulomb_mu * pressure_n {
+    let rms = |a: &[f64]| (a.iter().map(|v| v * v).sum::<f64>() / a.len() as f64).sqrt();
+    let (first, second) = (rms(&x[..n / 2]), rms(&x[n / 2..]));
+    // Still: no fluctuation worth the name (a stick-slip swings by about (μ_s − μ_c)·N), or
+    // only the onset's ringing dying away.
+    let swing = (body.static_mu - body.coulomb_mu) * pressure_n;
+    if !(first.is_finite() && second.is_finite()) || second < 0.01 * swing || second < 0.8 * first {
         return (Cell::Still, 0.0);
     }
     let mut planner = RealFftPlanner::<f64>::new();

@@ -11,7 +11,7 @@
 
 use proptest::prelude::*;
 use realfft::RealFftPlanner;
-use trundle_dsp::object::resonator::{Object, ObjectControls};
+use trundle_dsp::object::resonator::Object;
 use trundle_dsp::physics::friction::{contact_mass_kg, Friction};
 use trundle_dsp::physics::friction_body::FrictionBody;
 use trundle_dsp::scene::voice::object_controls;
@@ -40,12 +40,7 @@ fn glass() -> Params {
 
 /// The object's explicit modes for `p` at `fs`.
 fn object_modes(p: &Params, fs: f64) -> Vec<(f64, f64)> {
-    let o = Object::new(
-        fs,
-        ObjectControls {
-            ..object_controls(p)
-        },
-    );
+    let o = Object::new(fs, object_controls(p));
     o.modes()
         .iter()
         .filter(|m| m.gain != 0.0)
@@ -332,79 +327,5 @@ proptest! {
         let peak = out.iter().fold(0f32, |m, x| m.max(x.abs()));
         prop_assert!(out.iter().all(|x| x.is_finite()), "non-finite");
         prop_assert!(peak < BOUND, "peak {peak}");
-    }
-}
-
-#[test]
-#[ignore = "exploration"]
-fn explore_map() {
-    let env = |k: &str, d: &str| std::env::var(k).unwrap_or_else(|_| d.to_string());
-    let mut p = glass();
-    for kv in env("FRIC_SET", "").split(',').filter(|s| !s.is_empty()) {
-        let (k, v) = kv.split_once('=').unwrap();
-        p.set_text(k, v).unwrap();
-    }
-    let mut body = FrictionBody::of(p.rub_body());
-    let b: Vec<f64> = env("FRIC_BODY", "")
-        .split(',')
-        .filter(|s| !s.is_empty())
-        .map(|s| s.parse().unwrap())
-        .collect();
-    if b.len() == 7 {
-        body = FrictionBody {
-            stiffness_n_per_m: b[0],
-            damping_n_s_per_m: b[1],
-            viscous_n_s_per_m: b[2],
-            static_mu: b[3],
-            coulomb_mu: b[4],
-            stribeck_m_s: b[5],
-            break_away: b[6],
-        };
-    }
-    let fs: f64 = env("FRIC_FS", "48000").parse().unwrap();
-    let modes = object_modes(&p, fs);
-    println!("modes {:?}", &modes[..modes.len().min(10)]);
-    let list = |k: &str, d: &str| -> Vec<f64> {
-        env(k, d).split(',').map(|s| s.parse().unwrap()).collect()
-    };
-    for pr in list("FRIC_N", "0.1,0.3,1,3,10") {
-        let mut line = format!("N {pr:>5}:");
-        for v in list("FRIC_V", "0.02,0.05,0.1,0.2,0.4,0.8") {
-            let mut q = p;
-            q.set(ParamId::PressureN, pr).unwrap();
-            let mut c = contact(&q, fs);
-            c.set_contact(body, pr);
-            if let Ok(m) = std::env::var("FRIC_MASS") {
-                c.set_mass(m.parse().unwrap());
-            }
-            let n = fs as usize;
-            let mut x = vec![0f32; n];
-            let mut stuck = 0;
-            for i in 0..2 * n {
-                let s = c.step(v);
-                if i >= n {
-                    x[i - n] = s.force_n as f32;
-                    if s.relative_velocity_m_s.abs() < 0.1 * v {
-                        stuck += 1;
-                    }
-                }
-            }
-            let mean = x.iter().map(|&a| f64::from(a)).sum::<f64>() / n as f64;
-            x.iter_mut().for_each(|a| *a -= mean as f32);
-            let rms = (x.iter().map(|&a| f64::from(a).powi(2)).sum::<f64>() / n as f64).sqrt();
-            let s = spectrum(&x);
-            let (f, _) = fundamental_hz(&s, n, fs, 50.0, 0.45 * fs);
-            let near = modes
-                .iter()
-                .map(|m| ((f / m.0 - 1.0).abs(), m.0))
-                .fold((1e9, 0.0), |a, b| if b.0 < a.0 { b } else { a });
-            line += &format!(
-                " | {f:7.1} {:+.1}% rms {rms:.3} st {:.2} nc {}",
-                100.0 * (f / near.1 - 1.0),
-                stuck as f64 / n as f64,
-                c.unconverged()
-            );
-        }
-        println!("{line}");
     }
 }
