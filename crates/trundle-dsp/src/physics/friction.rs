@@ -276,6 +276,11 @@ impl Friction {
         self.b = b_sum;
     }
 
+    /// The static friction force μ_s·N of the contact as set (N).
+    pub fn static_force_n(&self) -> f64 {
+        self.body.static_mu * self.normal_n
+    }
+
     /// Modes taking part in the contact.
     pub fn mode_count(&self) -> usize {
         self.n
