@@ -1,6 +1,6 @@
 //! Helpers shared by the host tests (`tests/clap_host.rs`, `tests/strict_host.rs`).
 
-use crate::{bundle, clap_param_id, Block, Bundle, Instance};
+use crate::{bundle, clap_param_id, Block, Bundle, Instance, Transport};
 use clack_host::prelude::ClapId;
 
 /// The CLAP ID nice-plug gives the parameter with stable key `key`.
@@ -65,5 +65,44 @@ pub fn state_json(state: &[u8]) -> String {
 pub fn state_bytes(json: &str) -> Vec<u8> {
     let mut out = (json.len() as u64).to_le_bytes().to_vec();
     out.extend_from_slice(json.as_bytes());
+    out
+}
+
+/// `text` as a JSON string literal.
+pub fn json_string(text: &str) -> String {
+    let mut out = String::from("\"");
+    for c in text.chars() {
+        match c {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            '\n' => out.push_str("\\n"),
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+    out
+}
+
+/// The state `json` with a persisted string field `field` holding `text` (as the plugin's
+/// `#[persist]` slots store their JSON: the object, the body EQ curve).
+pub fn with_state_field(json: &str, field: &str, text: &str) -> String {
+    let tag = "\"state_version\":\"1\"";
+    assert!(json.contains(tag), "{json}");
+    json.replace(tag, &format!("{tag},\"{field}\":{}", json_string(text)))
+}
+
+/// One second at 48 kHz in blocks of 512, transport playing, from activation to deactivation.
+pub fn one_second(inst: &mut Instance) -> Vec<f32> {
+    inst.activate(48_000.0, 512).unwrap();
+    let blocks: Vec<Block> = (0..94)
+        .map(|_| Block {
+            len: 512,
+            events: Vec::new(),
+            transport: Transport::Playing,
+            notes: Vec::new(),
+        })
+        .collect();
+    let out = render(inst, &blocks);
+    inst.deactivate().unwrap();
     out
 }

@@ -4,34 +4,10 @@
 //! allocations in crates/trundle/tests/body_eq.rs, under nice-plug's own allocator.)
 
 use trundle_tests::check::{
-    first_difference, load_bundle, new_instance, plain, render, rms, state_bytes, state_json,
+    first_difference, load_bundle, new_instance, one_second, plain, rms, state_bytes, state_json,
+    with_state_field,
 };
-use trundle_tests::{Block, Instance, Transport};
-
-/// `text` as a JSON string literal.
-fn json_string(text: &str) -> String {
-    let mut out = String::from("\"");
-    for c in text.chars() {
-        match c {
-            '"' => out.push_str("\\\""),
-            '\\' => out.push_str("\\\\"),
-            '\n' => out.push_str("\\n"),
-            c => out.push(c),
-        }
-    }
-    out.push('"');
-    out
-}
-
-/// The state `json` with a persisted `body_eq` field holding `curve_text`.
-fn with_curve(json: &str, curve_text: &str) -> String {
-    let tag = "\"state_version\":\"1\"";
-    assert!(json.contains(tag), "{json}");
-    json.replace(
-        tag,
-        &format!("{tag},\"body_eq\":{}", json_string(curve_text)),
-    )
-}
+use trundle_tests::Instance;
 
 /// A curve as the plugin saves it: a tilt of +0.8 dB per third octave from 1 kHz up and a
 /// −12 dB notch at 4 kHz.
@@ -54,21 +30,6 @@ fn tilt() -> String {
     )
 }
 
-fn one_second(inst: &mut Instance) -> Vec<f32> {
-    inst.activate(48_000.0, 512).unwrap();
-    let blocks: Vec<Block> = (0..94)
-        .map(|_| Block {
-            len: 512,
-            events: Vec::new(),
-            transport: Transport::Playing,
-            notes: Vec::new(),
-        })
-        .collect();
-    let out = render(inst, &blocks);
-    inst.deactivate().unwrap();
-    out
-}
-
 /// The instance's state with the `body_eq` amount at `amount`.
 fn at_amount(inst: &mut Instance, amount: f64) -> String {
     let v = plain(inst, "body_eq", amount);
@@ -86,7 +47,7 @@ fn a_curve_is_saved_in_the_state_and_plays_identically_on_reload() {
     assert!(rms(&plain_out) > 1e-3);
 
     let mut eq = new_instance(&b);
-    eq.load_state(&state_bytes(&with_curve(&base, &tilt())))
+    eq.load_state(&state_bytes(&with_state_field(&base, "body_eq", &tilt())))
         .unwrap();
     let eq_out = one_second(&mut eq);
     assert!(
@@ -112,7 +73,7 @@ fn the_amount_zero_is_an_exact_bypass_and_a_corrupt_curve_loses_nothing_else() {
     let base = at_amount(&mut off, 0.0);
     let no_curve = one_second(&mut off);
     let mut eq = new_instance(&b);
-    eq.load_state(&state_bytes(&with_curve(&base, &tilt())))
+    eq.load_state(&state_bytes(&with_state_field(&base, "body_eq", &tilt())))
         .unwrap();
     assert_eq!(first_difference(&one_second(&mut eq), &no_curve), None);
     for garbage in [
@@ -121,7 +82,7 @@ fn the_amount_zero_is_an_exact_bypass_and_a_corrupt_curve_loses_nothing_else() {
         &tilt().replace("[-12.8,", "[-52.8,"),
     ] {
         let mut inst = new_instance(&b);
-        inst.load_state(&state_bytes(&with_curve(&base, garbage)))
+        inst.load_state(&state_bytes(&with_state_field(&base, "body_eq", garbage)))
             .unwrap();
         assert_eq!(
             first_difference(&one_second(&mut inst), &no_curve),

@@ -4,34 +4,9 @@
 use trundle_dsp::object::fitted;
 use trundle_dsp::scene::preset::Preset;
 use trundle_tests::check::{
-    first_difference, load_bundle, new_instance, render, rms, state_bytes, state_json,
+    first_difference, load_bundle, new_instance, one_second, rms, state_bytes, state_json,
+    with_state_field,
 };
-use trundle_tests::{Block, Instance, Transport};
-
-/// `text` as a JSON string literal.
-fn json_string(text: &str) -> String {
-    let mut out = String::from("\"");
-    for c in text.chars() {
-        match c {
-            '"' => out.push_str("\\\""),
-            '\\' => out.push_str("\\\\"),
-            '\n' => out.push_str("\\n"),
-            c => out.push(c),
-        }
-    }
-    out.push('"');
-    out
-}
-
-/// The state `json` with a persisted `object` field holding `object_text`.
-fn with_object(json: &str, object_text: &str) -> String {
-    let tag = "\"state_version\":\"1\"";
-    assert!(json.contains(tag), "{json}");
-    json.replace(
-        tag,
-        &format!("{tag},\"object\":{}", json_string(object_text)),
-    )
-}
 
 /// The object file of the built-in preset fitted from a real cowbell, as its JSON text.
 fn cowbell_object() -> String {
@@ -46,21 +21,6 @@ fn cowbell_object() -> String {
     fitted::to_json(&f.object, &f.source).to_string()
 }
 
-fn one_second(inst: &mut Instance) -> Vec<f32> {
-    inst.activate(48_000.0, 512).unwrap();
-    let blocks: Vec<Block> = (0..94)
-        .map(|_| Block {
-            len: 512,
-            events: Vec::new(),
-            transport: Transport::Playing,
-            notes: Vec::new(),
-        })
-        .collect();
-    let out = render(inst, &blocks);
-    inst.deactivate().unwrap();
-    out
-}
-
 #[test]
 fn a_fitted_object_is_saved_in_the_state_and_plays_identically_on_reload() {
     let b = load_bundle();
@@ -73,7 +33,7 @@ fn a_fitted_object_is_saved_in_the_state_and_plays_identically_on_reload() {
     let object = cowbell_object();
     let mut fitted = new_instance(&b);
     fitted
-        .load_state(&state_bytes(&with_object(&base, &object)))
+        .load_state(&state_bytes(&with_state_field(&base, "object", &object)))
         .unwrap();
     let fitted_out = one_second(&mut fitted);
     assert!(rms(&fitted_out) > 1e-3, "the fitted object is silent");
@@ -114,7 +74,7 @@ fn a_corrupt_object_in_a_state_loses_nothing_else() {
         "{\"trundle_object\": 1, \"sample_rate_hz\": -4}",
     ] {
         let mut inst = new_instance(&b);
-        inst.load_state(&state_bytes(&with_object(&base, garbage)))
+        inst.load_state(&state_bytes(&with_state_field(&base, "object", garbage)))
             .unwrap();
         // The recipe object plays, every parameter as saved.
         assert_eq!(
