@@ -19,6 +19,13 @@ impl TrundleEditor {
         let s = t.scale;
         let p = ui.painter_at(rect);
         p.rect_filled(rect, t.radius_small(), WELL);
+        // The border once, for both states: the bars sit inside `inner`, clear of it.
+        p.rect_stroke(
+            rect,
+            t.radius_small(),
+            Stroke::new(1.0, BORDER),
+            egui::StrokeKind::Inside,
+        );
         let font = FontId::proportional((9.0 * s).max(8.0));
         let loaded = self.params.body_eq.loaded();
         let amount = self.params.get(ParamId::BodyEq).value();
@@ -29,12 +36,6 @@ impl TrundleEditor {
                 "no body EQ curve · EQ… loads one (a preset or trundle match output)",
                 font,
                 TEXT_DIM,
-            );
-            p.rect_stroke(
-                rect,
-                t.radius_small(),
-                Stroke::new(1.0, BORDER),
-                egui::StrokeKind::Inside,
             );
             return;
         };
@@ -79,12 +80,6 @@ impl TrundleEditor {
             format!("{:.0}…{:+.0} dB", lo, hi),
             font,
             TEXT_DIM,
-        );
-        p.rect_stroke(
-            rect,
-            t.radius_small(),
-            Stroke::new(1.0, BORDER),
-            egui::StrokeKind::Inside,
         );
         let response = ui.allocate_rect(rect, Sense::hover());
         if let Some(pos) = response.hover_pos() {
