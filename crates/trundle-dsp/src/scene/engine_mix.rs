@@ -239,9 +239,13 @@ impl EngineMix {
         let (a0, a1) = self.friction_amount.advance(CHUNK, self.fs);
         let step = (a1 - a0) / CHUNK as f64;
         let scale = 1.0 / FRICTION_FORCE_REF_N.max(self.friction.static_force_n());
+        // The force handed on stays within what the contact transmits (its bound at the
+        // faster end of the chunk's bow; see `Friction::force_bound_n`).
+        let bound = (self.friction.force_bound_n(b0.abs().max(b1.abs())) * scale) as f32;
         for (i, (y, fr)) in force.iter_mut().zip(&self.friction_force).enumerate() {
             let a = (a0 + step * (i + 1) as f64) as f32;
-            *y = (1.0 - a) * *y + a * (f64::from(*fr) * scale) as f32;
+            let f = ((f64::from(*fr) * scale) as f32).clamp(-bound, bound);
+            *y = (1.0 - a) * *y + a * f;
         }
         if !self.friction_on() {
             // Off again: the next start is from rest.

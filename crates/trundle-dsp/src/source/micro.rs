@@ -15,9 +15,9 @@
 //!   between its edges; `micro_tone` tilts it, see [`tilt_gains`]).
 //! * **Level.** The noise has unit variance whatever the band and the sample rate (its white
 //!   source is scaled by √(f_s/2B), B the band's noise bandwidth), times
-//!   `micro`·[`MICRO_GAIN`]·√V·(0.25 + 0.75ρ) and times the **contact envelope** e(t): the
-//!   peak of |F − F̄| (F̄ the force's 10 ms mean, so a static load does not count) held with a
-//!   [`RELEASE_S`] release. With the envelope's own √V (the loudness law L(V)) the micro force's
+//!   `micro`·[`MICRO_GAIN`]·√V·(0.25 + 0.75ρ) and times the **contact envelope** e(t):
+//!   |F − F̄| (F̄ the force's 10 ms mean, so a static load does not count) followed with an
+//!   [`ATTACK_S`] attack and a [`RELEASE_S`] release. With the envelope's own √V (the loudness law L(V)) the micro force's
 //!   amplitude grows as V and its power per hertz as V (the power spread over a band ∝ V):
 //!   friction noise grows with the power dissipated, μ·N·v. The envelope makes the noise
 //!   follow the action: a rub's dense force holds it open (continuous), a roll's or a
@@ -48,8 +48,17 @@ pub const LAMBDA_MAX_M: f64 = 5.0e-4;
 /// The shortest micro-roughness wavelength of a smooth surface, ρ = 0 (m); ρ = 1 halves it.
 /// The band's low-pass sits at v/λ_min.
 pub const LAMBDA_MIN_SMOOTH_M: f64 = 4.5e-5;
-/// Gain of the micro force over the contact envelope at `micro` = 1, V = 1, ρ = 1.
-pub const MICRO_GAIN: f64 = 2.0;
+/// Gain of the micro force over the contact envelope at `micro` = 1, V = 1, ρ = 1 (2.0 when
+/// the envelope was the instantaneous peak; 2.6 with the [`ATTACK_S`] attack keeps ordinary
+/// rolls' and rubs' level above 4 kHz within 0.5 dB, `tests/textures_fast.rs`).
+pub const MICRO_GAIN: f64 = 2.6;
+/// Attack time of the contact envelope (s): the contact's shortest time scale, the pulse of
+/// the smallest ball (t₀ ≈ 0.1 ms, docs/MODEL.md §2). The envelope follows the load a contact
+/// holds for that long, not a single sample's spike: a grit spike or the smallest ball's
+/// needle-thin pulse opens the gate by its share of a contact's duration, not by its height
+/// (without it, the property test found a micro force 3× the force's own peak, heard
+/// directly at +37 dBFS).
+pub const ATTACK_S: f64 = 1.0e-4;
 /// Release time of the contact envelope (s): the gate closes this fast after a contact.
 pub const RELEASE_S: f64 = 0.001;
 /// Time constant of the force's running mean, removed before the envelope (s).
@@ -209,6 +218,7 @@ impl Micro {
         let tp = pole(TILT_PIVOT_HZ.min(0.4 * fs), fs);
         let (g_lo, g_hi) = tilt_gains(tone);
         let rel = (-1.0 / (RELEASE_S * fs)).exp() as f32;
+        let att = 1.0 - (-1.0 / (ATTACK_S * fs)).exp() as f32;
         let mean_k = 1.0 - (-1.0 / (MEAN_S * fs)).exp() as f32;
         let (l0, l1) = (level(a0, speed.0, rho) as f32, level(a1, v, rho) as f32);
         let step = (l1 - l0) / n as f32;
@@ -225,10 +235,15 @@ impl Micro {
             self.tilt_state = y + tp * (self.tilt_state - y);
             let low = self.tilt_state;
             let shaped = g_lo * low + g_hi * (y - low);
-            // The contact envelope: |F − F̄| held with the release.
+            // The contact envelope: |F − F̄| followed with the attack, held with the release.
             let f = force[i];
             self.mean += mean_k * (f - self.mean);
-            self.env = (f - self.mean).abs().max(rel * self.env);
+            let target = (f - self.mean).abs();
+            self.env = if target > self.env {
+                self.env + att * (target - self.env)
+            } else {
+                rel * self.env
+            };
             let m = (l0 + step * (i + 1) as f32) * self.env * shaped;
             force[i] = f + m;
             direct[i] = direct_gain * m;
