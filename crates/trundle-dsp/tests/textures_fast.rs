@@ -152,7 +152,7 @@ fn median_over_seeds(changes: &[(ParamId, f64)], seconds: f64, f: fn(&[f32]) -> 
 }
 
 /// Micro at 0.5 lifts a roll's level above 4 kHz (re its whole band) by 15–28 dB: measured
-/// +24.4 dB at V 0.4 and +20.7 dB at V 0.6 (−34.5 → −10.1, −28.4 → −7.7), so the range
+/// +24.2 dB at V 0.4 and +20.2 dB at V 0.6 (−34.5 → −10.3, −28.4 → −8.2), so the range
 /// leaves ±4 dB of room on either side of V 0.5. The object's modes alone make a part of
 /// it (+7…+12 dB measured), the directly radiated share the rest (+13 dB over the modes):
 /// above its explicit modes the object has too few modes to pass a hiss.
@@ -175,7 +175,7 @@ fn micro_lifts_the_band_above_4_khz() {
 }
 
 /// With micro on, a ball 1.5× as fast is brighter: the centroid rises ≥ 10 % from V 0.4 to
-/// 0.6 (measured +69 % rolling, +132 % rubbing at micro 0.5; without micro +9 % rolling).
+/// 0.6 (measured +60 % rolling, +113 % rubbing at micro 0.5; without micro +9 % rolling).
 #[test]
 fn micro_makes_a_faster_contact_brighter() {
     for action in [&[][..], &RUB[..]] {
