@@ -12,6 +12,7 @@
 //!   ─► each render through the curve ─► profile ─► compare ─► loss ─► CMA-ES ─► next x
 //! ```
 
+use crate::match_pitch::friction_dims;
 use crate::match_space::{self, apply_eq, Dim, EqCurve, MAX_EQ_DB};
 use indicatif::ProgressBar;
 use rayon::prelude::*;
@@ -197,7 +198,8 @@ pub fn judge(target: &Target, params: &Params, seeds: &[u32], curve: Option<&EqC
 
 /// How a search runs.
 pub struct Plan<'a> {
-    /// The controls searched.
+    /// The signal model's controls searched (a friction start searches
+    /// [`friction_dims`] instead).
     pub dims: &'a [Dim],
     /// The starting parameters (the cue's action set on the defaults).
     pub start: Params,
@@ -315,13 +317,24 @@ pub fn search(target: &Target, plan: &Plan, pool: &rayon::ThreadPool, bar: &Prog
     let mut evaluations = screened.len();
     screened.sort_by(|a, b| a.loss.total_cmp(&b.loss));
     let mut best: Option<Judged> = None;
+    // A start's controls: a friction start (friction > 0) searches the contact's
+    // (match_pitch::friction_dims, anchored on the start's tuned size), any other the
+    // signal model's.
+    let dims_of = |p: &Params| -> Vec<Dim> {
+        if p.get(ParamId::Friction) > 0.0 {
+            friction_dims(p)
+        } else {
+            plan.dims.to_vec()
+        }
+    };
     if let Some(first) = screened.first().cloned() {
+        let dims = dims_of(&first.params);
         let mut b = first;
         for step in SWEEP_STEPS {
-            if b.loss <= plan.target_loss || evaluations + 2 * plan.dims.len() + 1 > plan.budget {
+            if b.loss <= plan.target_loss || evaluations + 2 * dims.len() + 1 > plan.budget {
                 break;
             }
-            let (j, n) = sweep(b, step, plan.dims, &judge_all);
+            let (j, n) = sweep(b, step, &dims, &judge_all);
             evaluations += n;
             b = j;
         }
@@ -335,7 +348,8 @@ pub fn search(target: &Target, plan: &Plan, pool: &rayon::ThreadPool, bar: &Prog
             best = Some(start.clone());
         }
         let base = &start.params;
-        let x0 = match_space::point_of(plan.dims, base);
+        let dims = dims_of(base);
+        let x0 = match_space::point_of(&dims, base);
         let settings = Settings {
             target: plan.target_loss,
             tol_x: 1e-3,
@@ -349,7 +363,7 @@ pub fn search(target: &Target, plan: &Plan, pool: &rayon::ThreadPool, bar: &Prog
             let xs = es.ask();
             let ps: Vec<Params> = xs
                 .iter()
-                .map(|x| match_space::params_at(plan.dims, x, base))
+                .map(|x| match_space::params_at(&dims, x, base))
                 .collect();
             let judged = judge_all(&ps);
             evaluations += ps.len();
