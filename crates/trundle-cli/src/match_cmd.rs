@@ -22,7 +22,7 @@
 use crate::compare_cmd::load_mono;
 use crate::error::{failure, input, quote, CliError};
 use crate::fit_cmd::{fit_file, write_text};
-use crate::match_pitch::{friction_starts, tone};
+use crate::match_pitch::{friction_starts, tone, tune_size};
 use crate::match_search::{judge, search, Judged, Plan, Target};
 use crate::match_space::{action_cue, action_name, dims, restarts_for, with_restart, RESTARTS};
 use crate::match_start::{estimate, starts};
@@ -247,8 +247,17 @@ pub fn run(args: &MatchArgs) -> Result<(String, u8), CliError> {
     };
     let found = search(&target, &plan, &pool, &bar);
     bar.finish_and_clear();
+    // A friction winner sized again so the mode it locks onto (at its searched pressure,
+    // speed and position) sings on the recording's pitch, and judged again for its curve.
+    let mut best = found.best;
+    if let Some(t) = tonal.filter(|_| best.params.get(ParamId::Friction) > 0.0) {
+        if let Some(p) = tune_size(&best.params, t.pitch_hz, fs) {
+            if p != best.params {
+                best = judge(&target, &p, &plan.seeds, None);
+            }
+        }
+    }
     // Validation: the winner through its own curve at seeds the search never heard.
-    let best = found.best;
     let validation: Judged = judge(&target, &best.params, &VALIDATION_SEEDS, Some(&best.curve));
     let matched = validation.comparisons.len() == VALIDATION_SEEDS.len()
         && validation.comparisons.iter().all(Comparison::passed);

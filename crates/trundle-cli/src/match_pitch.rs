@@ -261,25 +261,22 @@ fn dim(key: &str, lo: f64, hi: f64, log: bool) -> Option<Dim> {
     })
 }
 
-/// Widest relative move of the object's size in a friction search (±6 %): the tuned mode
-/// moves with it by about as much, so the pitch can be refined but not thrown off its mode.
-pub const SIZE_ROOM: f64 = 1.06;
-
 /// The controls searched from a friction start `p` (issue #27): the contact's share,
 /// pressure (log, 0.05–20 N), rubbing speed (log, 0.01 m/s up to the match's highest
-/// velocity, so the 1.5× brightness check stays in range), where on the object it rubs, the
-/// object's size within ±6 % of its tuned size, its decay and the output gain. Shape,
-/// material and rubbing body are the restart's (choices); the signal model's controls are
-/// not searched (at friction 1 they are silent).
+/// velocity, so the 1.5× brightness check stays in range), where on the object it rubs, its
+/// decay and the output gain. Shape, material and rubbing body are the restart's (choices);
+/// the object's size is not searched but set by the pitch ([`tune_size`], again on the
+/// winner: the spectrum measure's third-octave bands cannot see a 3 % detuning, so a
+/// searched size drifted off the pitch); the signal model's controls are not searched (at
+/// friction 1 they are silent).
 pub fn friction_dims(p: &Params) -> Vec<Dim> {
-    let size = p.get(ParamId::ObjectSize);
+    let _ = p;
     [
         dim("friction", 0.0, 1.0, false),
         dim("pressure_n", 0.05, 20.0, true),
         dim("velocity", 0.01, crate::match_space::MAX_VELOCITY, true),
         dim("position_x", -1.0, 1.0, false),
         dim("position_y", -1.0, 1.0, false),
-        dim("object_size", size / SIZE_ROOM, size * SIZE_ROOM, true),
         dim("decay", 0.1, 10.0, true),
         dim("gain_db", -12.0, 12.0, false),
     ]
