@@ -40,6 +40,7 @@ mod friction_map;
 mod level;
 mod list;
 mod match_cmd;
+mod match_pitch;
 mod match_search;
 mod match_space;
 mod match_start;

@@ -6,6 +6,8 @@
 //! RECORDING ─► excerpt (the middle S s) ─► profile (compare's four measures, once)
 //!   ─► cue: waveform kurtosis → rub / roll / scratch (the search's start on the action disk)
 //!   ─► first estimates of the textures off the profile (match_start: strokes, bumps, …)
+//!   ─► tonal cue (match_pitch: power on one pitch's harmonics, a steady pitch) ─► friction
+//!      restarts, each object sized so the mode its contact locks onto sits on the pitch
 //!   [--strike ─► fit-object ─► the candidates play the fitted object]
 //!   ─► CMA-ES over match_space::SPACE, restarts over (ball material, shape);
 //!      each candidate rendered at K seeds, heard through its body EQ, judged (match_search)
@@ -20,6 +22,7 @@
 use crate::compare_cmd::load_mono;
 use crate::error::{failure, input, quote, CliError};
 use crate::fit_cmd::{fit_file, write_text};
+use crate::match_pitch::{friction_starts, tone, tune_size};
 use crate::match_search::{judge, search, Judged, Plan, Target};
 use crate::match_space::{action_cue, action_name, dims, restarts_for, with_restart, RESTARTS};
 use crate::match_start::{estimate, starts};
@@ -227,10 +230,16 @@ pub fn run(args: &MatchArgs) -> Result<(String, u8), CliError> {
         .iter()
         .map(|r| with_restart(&start, r))
         .collect();
+    // A tonal recording: friction restarts tuned to its pitch, screened first.
+    let tone = tone(&excerpt, fs);
+    let tonal = tone.filter(|t| t.is_tonal());
+    let mut all_starts = tonal.map_or_else(Vec::new, |t| friction_starts(t.pitch_hz, fs));
+    let friction_restarts = all_starts.len();
+    all_starts.extend(starts(&restarts, &estimate));
     let plan = Plan {
         dims: &dims,
         start,
-        starts: starts(&restarts, &estimate),
+        starts: all_starts,
         seeds: (1..=args.seeds).collect(),
         budget: args.budget,
         seed: args.search_seed,
@@ -238,8 +247,17 @@ pub fn run(args: &MatchArgs) -> Result<(String, u8), CliError> {
     };
     let found = search(&target, &plan, &pool, &bar);
     bar.finish_and_clear();
+    // A friction winner sized again so the mode it locks onto (at its searched pressure,
+    // speed and position) sings on the recording's pitch, and judged again for its curve.
+    let mut best = found.best;
+    if let Some(t) = tonal.filter(|_| best.params.get(ParamId::Friction) > 0.0) {
+        if let Some(p) = tune_size(&best.params, t.pitch_hz, fs) {
+            if p != best.params {
+                best = judge(&target, &p, &plan.seeds, None);
+            }
+        }
+    }
     // Validation: the winner through its own curve at seeds the search never heard.
-    let best = found.best;
     let validation: Judged = judge(&target, &best.params, &VALIDATION_SEEDS, Some(&best.curve));
     let matched = validation.comparisons.len() == VALIDATION_SEEDS.len()
         && validation.comparisons.iter().all(Comparison::passed);
@@ -271,6 +289,14 @@ pub fn run(args: &MatchArgs) -> Result<(String, u8), CliError> {
         "validation": per_seed,
         "action": action,
         "start_estimate": estimate.describe(),
+        "tone": tone.map(|t| json!({
+            "pitch_hz": t.pitch_hz,
+            "harmonic_share": t.harmonic_share,
+            "spread": t.spread,
+            "tonal": t.is_tonal(),
+        })),
+        "friction_restarts": friction_restarts,
+        "friction": best.params.get(ParamId::Friction),
         "brightness_at_1_5x_velocity": brightness,
         "own_spectrum_db": validation.own_spectrum_db,
         "candidates": found.evaluations,
@@ -319,6 +345,17 @@ pub fn run(args: &MatchArgs) -> Result<(String, u8), CliError> {
         target.reference.kurtosis
     );
     s += &format!("start: {}\n", estimate.describe());
+    match tone {
+        Some(t) if t.is_tonal() => {
+            s += &format!(
+                "tonal: {:.1} Hz ({:.0} % of the power on its harmonics): {friction_restarts} friction restarts; friction {:.2} chosen\n",
+                t.pitch_hz,
+                100.0 * t.harmonic_share,
+                best.params.get(ParamId::Friction)
+            );
+        }
+        _ => s += "not tonal: no friction restarts\n",
+    }
     s += &format!(
         "validated at seeds {VALIDATION_SEEDS:?} (not searched): loss {:.2} (search {:.2})\n",
         validation.loss, best.loss

@@ -12,6 +12,7 @@
 //!   ─► each render through the curve ─► profile ─► compare ─► loss ─► CMA-ES ─► next x
 //! ```
 
+use crate::match_pitch::friction_dims;
 use crate::match_space::{self, apply_eq, Dim, EqCurve, MAX_EQ_DB};
 use indicatif::ProgressBar;
 use rayon::prelude::*;
@@ -87,7 +88,15 @@ pub fn centroid_hz(s: &LongTermSpectrum, curve: &EqCurve) -> f64 {
     num / den.max(1e-300)
 }
 
-/// Render `params` at `seed`, mono, `target.samples` long.
+/// Lead-in (s) rendered and dropped before a friction candidate: the excerpt matched is
+/// the middle of a recording, where a rub has long settled, while the contact takes up to
+/// ~0.75 s to lock (docs/guide/friction.md's map reads after 0.75 s). Measured: without it
+/// a render of the very preset the recording was made with was 13.9 dB off its modulation
+/// spectrum (the onset's swell), with it within the limits.
+pub const FRICTION_LEAD_S: f64 = 0.75;
+
+/// Render `params` at `seed`, mono, `target.samples` long (a friction candidate after
+/// [`FRICTION_LEAD_S`] of lead-in).
 pub fn render(target: &Target, params: &Params, seed: u32) -> Vec<f64> {
     let mut p = *params;
     p.set_clamped(ParamId::Seed, f64::from(seed));
@@ -96,11 +105,16 @@ pub fn render(target: &Target, params: &Params, seed: u32) -> Vec<f64> {
         v.set_loaded_object(Some(o.clone()));
         v.reset();
     }
-    let mut out = vec![0f32; target.samples];
+    let lead = if params.get(ParamId::Friction) > 0.0 {
+        (FRICTION_LEAD_S * target.sample_rate_hz) as usize
+    } else {
+        0
+    };
+    let mut out = vec![0f32; lead + target.samples];
     for b in out.chunks_mut(4096) {
         v.process(b);
     }
-    out.iter().map(|&s| f64::from(s)).collect()
+    out[lead..].iter().map(|&s| f64::from(s)).collect()
 }
 
 /// The long-term spectra of `renders` (the model's own, before any EQ).
@@ -197,7 +211,8 @@ pub fn judge(target: &Target, params: &Params, seeds: &[u32], curve: Option<&EqC
 
 /// How a search runs.
 pub struct Plan<'a> {
-    /// The controls searched.
+    /// The signal model's controls searched (a friction start searches
+    /// [`friction_dims`] instead).
     pub dims: &'a [Dim],
     /// The starting parameters (the cue's action set on the defaults).
     pub start: Params,
@@ -315,13 +330,24 @@ pub fn search(target: &Target, plan: &Plan, pool: &rayon::ThreadPool, bar: &Prog
     let mut evaluations = screened.len();
     screened.sort_by(|a, b| a.loss.total_cmp(&b.loss));
     let mut best: Option<Judged> = None;
+    // A start's controls: a friction start (friction > 0) searches the contact's
+    // (match_pitch::friction_dims, anchored on the start's tuned size), any other the
+    // signal model's.
+    let dims_of = |p: &Params| -> Vec<Dim> {
+        if p.get(ParamId::Friction) > 0.0 {
+            friction_dims(p)
+        } else {
+            plan.dims.to_vec()
+        }
+    };
     if let Some(first) = screened.first().cloned() {
+        let dims = dims_of(&first.params);
         let mut b = first;
         for step in SWEEP_STEPS {
-            if b.loss <= plan.target_loss || evaluations + 2 * plan.dims.len() + 1 > plan.budget {
+            if b.loss <= plan.target_loss || evaluations + 2 * dims.len() + 1 > plan.budget {
                 break;
             }
-            let (j, n) = sweep(b, step, plan.dims, &judge_all);
+            let (j, n) = sweep(b, step, &dims, &judge_all);
             evaluations += n;
             b = j;
         }
@@ -335,7 +361,8 @@ pub fn search(target: &Target, plan: &Plan, pool: &rayon::ThreadPool, bar: &Prog
             best = Some(start.clone());
         }
         let base = &start.params;
-        let x0 = match_space::point_of(plan.dims, base);
+        let dims = dims_of(base);
+        let x0 = match_space::point_of(&dims, base);
         let settings = Settings {
             target: plan.target_loss,
             tol_x: 1e-3,
@@ -349,7 +376,7 @@ pub fn search(target: &Target, plan: &Plan, pool: &rayon::ThreadPool, bar: &Prog
             let xs = es.ask();
             let ps: Vec<Params> = xs
                 .iter()
-                .map(|x| match_space::params_at(plan.dims, x, base))
+                .map(|x| match_space::params_at(&dims, x, base))
                 .collect();
             let judged = judge_all(&ps);
             evaluations += ps.len();

@@ -1,0 +1,326 @@
+//! The tonal cue of `trundle match` (issue #27): does the recording sing (a squeak, a rubbed
+//! glass, a bowed string: stick-slip locked on one mode), and at what pitch? When it does,
+//! the search adds friction restarts whose object is sized so that the mode the contact
+//! locks onto sits on that pitch; a noisy rub keeps the signal model's restarts only
+//! (friction renders cost ~7× a signal-model render: searched only where the sound asks).
+//!
+//! ```text
+//! excerpt ─► Welch power spectrum (Hann, ~3 Hz bins) ─► strongest peak f_p
+//!   ─► f₀ = the lowest f_p/k (k ≤ 6) that is itself a prominent peak
+//!   ─► harmonic share: the power within ±2 % of h·f₀ (h = 1 … 16) over all power above 40 Hz
+//!   ─► stability: f₀'s strongest harmonic, frame by frame, within ±1 % of its median
+//!   ─► tonal when share ≥ 0.5 and stable ─► friction restarts tuned to f₀ (tune_size)
+//! ```
+//!
+//! A stick-slip tone is periodic, so its power sits on harmonics of one fundamental (a rubbed
+//! glass's harmonics carry 95 % of it); noise through an object's modes spreads its power
+//! over many inharmonic modes and the band between them (Trundle's rubbing cloth: under
+//! 20 %), so the share separates them with a wide margin.
+
+use realfft::RealFftPlanner;
+use trundle_dsp::params::spec_by_key;
+use trundle_dsp::scene::preset::Preset;
+use trundle_dsp::{ParamId, Params, Voice};
+
+use crate::match_space::Dim;
+
+/// Lowest harmonic share of a tonal recording.
+pub const TONAL_SHARE: f64 = 0.5;
+/// Largest frame-to-frame wander (relative, either way of the median) of a stable pitch.
+pub const STABLE_SPREAD: f64 = 0.01;
+/// Relative half-width of a harmonic's window.
+const HARMONIC_TOL: f64 = 0.02;
+/// Lowest fundamental read (Hz).
+const LOWEST_HZ: f64 = 40.0;
+
+/// A recording's tone: its pitch and how tonal and stable it is.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Tone {
+    /// The fundamental (Hz).
+    pub pitch_hz: f64,
+    /// Power on the harmonics of the pitch over all power above 40 Hz.
+    pub harmonic_share: f64,
+    /// Largest frame-to-frame deviation of the pitch from its median (relative).
+    pub spread: f64,
+}
+
+impl Tone {
+    /// Tonal enough for friction restarts: most power on harmonics, a steady pitch.
+    pub fn is_tonal(&self) -> bool {
+        self.harmonic_share >= TONAL_SHARE && self.spread <= STABLE_SPREAD
+    }
+}
+
+/// Frames of `x` (Hann-windowed power spectra, half overlap), `n` samples each.
+fn frames(x: &[f64], n: usize) -> Vec<Vec<f64>> {
+    let fft = RealFftPlanner::<f64>::new().plan_fft_forward(n);
+    let w: Vec<f64> = (0..n)
+        .map(|i| 0.5 - 0.5 * (std::f64::consts::TAU * i as f64 / n as f64).cos())
+        .collect();
+    let mut out = Vec::new();
+    let mut a = 0;
+    while a + n <= x.len() {
+        let mut buf: Vec<f64> = x[a..a + n].iter().zip(&w).map(|(v, w)| v * w).collect();
+        let mut spec = fft.make_output_vec();
+        if fft.process(&mut buf, &mut spec).is_ok() {
+            out.push(spec.iter().map(|c| c.norm_sqr()).collect());
+        }
+        a += n / 2;
+    }
+    out
+}
+
+/// The bin of the largest value of `s` in `[lo, hi]` (bins), refined by a parabola through
+/// the log powers; `None` when the range is empty.
+fn peak_in(s: &[f64], lo: usize, hi: usize) -> Option<(f64, f64)> {
+    let (lo, hi) = (lo.max(1), hi.min(s.len().saturating_sub(2)));
+    if lo > hi {
+        return None;
+    }
+    let k = (lo..=hi).max_by(|&i, &j| s[i].total_cmp(&s[j]))?;
+    let (l, c, r) = (
+        s[k - 1].max(1e-300).ln(),
+        s[k].max(1e-300).ln(),
+        s[k + 1].max(1e-300).ln(),
+    );
+    let den = l - 2.0 * c + r;
+    let d = if den.abs() > 1e-12 {
+        (0.5 * (l - r) / den).clamp(-0.5, 0.5)
+    } else {
+        0.0
+    };
+    Some((k as f64 + d, s[k]))
+}
+
+/// The tone of `x` at `fs` (`None` when it is too short for three frames or silent).
+pub fn tone(x: &[f64], fs: f64) -> Option<Tone> {
+    // ~3 Hz bins: 0.3 % at 1 kHz, a pitch read well inside the 1 % a mode must hit.
+    let mut n = 1024;
+    while (n as f64) < fs / 3.0 && n < (1 << 17) {
+        n *= 2;
+    }
+    while n > 1024 && x.len() < 3 * n / 2 + n / 2 {
+        n /= 2;
+    }
+    let fr = frames(x, n);
+    if fr.len() < 3 {
+        return None;
+    }
+    let bins = n / 2 + 1;
+    let mut mean = vec![0.0; bins];
+    for f in &fr {
+        for (m, v) in mean.iter_mut().zip(f) {
+            *m += v / fr.len() as f64;
+        }
+    }
+    let df = fs / n as f64;
+    let lo = (LOWEST_HZ / df).ceil() as usize;
+    let total: f64 = mean[lo..].iter().sum();
+    if total <= 0.0 || !total.is_finite() {
+        return None;
+    }
+    let (kp, pp) = peak_in(&mean, lo, bins - 2)?;
+    let fp = kp * df;
+    // The fundamental: the lowest sub-multiple of the strongest peak that is a peak itself,
+    // 10 dB over the median of its ±10 % and within 40 dB of the strongest.
+    let mut f0 = fp;
+    for k in (2..=6).rev() {
+        let f = fp / k as f64;
+        if f < LOWEST_HZ {
+            continue;
+        }
+        let w = |r: f64| {
+            (
+                (f * (1.0 - r) / df) as usize,
+                (f * (1.0 + r) / df).ceil() as usize,
+            )
+        };
+        let (a, b) = w(0.015);
+        let (c, d) = w(0.1);
+        let Some((kk, p)) = peak_in(&mean, a, b) else {
+            continue;
+        };
+        let mut around: Vec<f64> = mean[c.max(1)..=d.min(bins - 1)].to_vec();
+        around.sort_by(f64::total_cmp);
+        let median = around[around.len() / 2];
+        if p >= 1e-4 * pp && p >= 10.0 * median && kk > 0.0 {
+            f0 = fp / k as f64;
+            break;
+        }
+    }
+    let mut on = 0.0;
+    for h in 1..=16 {
+        let f = h as f64 * f0;
+        if f * (1.0 + HARMONIC_TOL) >= 0.5 * fs {
+            break;
+        }
+        let (a, b) = (
+            (f * (1.0 - HARMONIC_TOL) / df).floor() as usize,
+            (f * (1.0 + HARMONIC_TOL) / df).ceil() as usize,
+        );
+        on += mean[a.max(lo)..=b.min(bins - 1)].iter().sum::<f64>();
+    }
+    // Stability: the strongest peak's harmonic, frame by frame.
+    let h = (fp / f0).round().max(1.0);
+    let (a, b) = (
+        (fp * (1.0 - 3.0 * HARMONIC_TOL) / df) as usize,
+        (fp * (1.0 + 3.0 * HARMONIC_TOL) / df).ceil() as usize,
+    );
+    let mut per: Vec<f64> = fr
+        .iter()
+        .filter_map(|s| peak_in(s, a, b).map(|(k, _)| k * df / h))
+        .collect();
+    per.sort_by(f64::total_cmp);
+    let median = per[per.len() / 2];
+    let spread = per
+        .iter()
+        .map(|f| (f / median - 1.0).abs())
+        .fold(0.0, f64::max);
+    Some(Tone {
+        pitch_hz: f0,
+        harmonic_share: (on / total).min(1.0),
+        spread,
+    })
+}
+
+/// The friction restarts' templates: a built-in preset and the rubbing body it is played
+/// with (a wet finger on a glass shell, a rosined bow on a steel plate, rubber on the glass).
+pub const FRICTION_TEMPLATES: &[(&str, &str)] = &[
+    ("finger-on-wine-glass", "finger"),
+    ("bowed-steel-plate", "rosin"),
+    ("finger-on-wine-glass", "rubber"),
+];
+
+/// The pitch `p` sings at `fs` (1 s rendered, the last half read), if it is tonal.
+pub fn sung_pitch_hz(p: &Params, fs: f64) -> Option<f64> {
+    let mut v = Voice::new(fs, p);
+    let mut out = vec![0f32; fs as usize];
+    for b in out.chunks_mut(4096) {
+        v.process(b);
+    }
+    let x: Vec<f64> = out[out.len() / 2..].iter().map(|&s| f64::from(s)).collect();
+    tone(&x, fs)
+        .filter(|t| t.harmonic_share >= TONAL_SHARE)
+        .map(|t| t.pitch_hz)
+}
+
+/// `p` with its object sized so that the mode its contact locks onto sings at `pitch_hz`:
+/// a mode's frequency goes as a power of the object's size, so the size is moved along the
+/// measured log-log line (a secant, starting from 1/size) until the render sings within
+/// 0.3 % of the pitch (4 renders at most). `None` when it does not sing or the size needed
+/// is outside 0.05–5 m.
+pub fn tune_size(p: &Params, pitch_hz: f64, fs: f64) -> Option<Params> {
+    let mut q = *p;
+    let (lo, hi) = (0.05, 5.0);
+    let mut size = q.get(ParamId::ObjectSize);
+    let mut f = sung_pitch_hz(&q, fs)?;
+    let mut slope = -1.0;
+    for _ in 0..4 {
+        if (f / pitch_hz - 1.0).abs() < 0.003 {
+            return Some(q);
+        }
+        let next = (size.ln() + (pitch_hz / f).ln() / slope).exp();
+        if !(lo..=hi).contains(&next) {
+            return None;
+        }
+        q.set_clamped(ParamId::ObjectSize, next);
+        let g = sung_pitch_hz(&q, fs)?;
+        let s = (g / f).ln() / (next / size).ln();
+        // Keep a sane slope: a jump to another mode would read as any number.
+        if s.is_finite() && (-3.0..=-0.3).contains(&s) {
+            slope = s;
+        }
+        size = next;
+        f = g;
+    }
+    ((f / pitch_hz - 1.0).abs() < 0.01).then_some(q)
+}
+
+/// The friction restarts for a tone at `pitch_hz`: each template tuned, with the
+/// sample rate `fs` the candidates render at.
+pub fn friction_starts(pitch_hz: f64, fs: f64) -> Vec<Params> {
+    FRICTION_TEMPLATES
+        .iter()
+        .filter_map(|(name, body)| {
+            let mut p = Preset::builtin(name).ok()?.params;
+            p.set_text("rub_body", body).ok()?;
+            tune_size(&p, pitch_hz, fs)
+        })
+        .collect()
+}
+
+fn dim(key: &str, lo: f64, hi: f64, log: bool) -> Option<Dim> {
+    let spec = spec_by_key(key)?;
+    let (lo, hi) = (lo.max(spec.min), hi.min(spec.max));
+    Some(Dim {
+        id: spec.id,
+        lo,
+        hi,
+        log: log && lo > 0.0,
+        int: false,
+    })
+}
+
+/// The controls searched from a friction start `p` (issue #27): the contact's share,
+/// pressure (log, 0.05–20 N), rubbing speed (log, 0.01 m/s up to the match's highest
+/// velocity, so the 1.5× brightness check stays in range), where on the object it rubs, its
+/// decay and the output gain. Shape, material and rubbing body are the restart's (choices);
+/// the object's size is not searched but set by the pitch ([`tune_size`], again on the
+/// winner: the spectrum measure's third-octave bands cannot see a 3 % detuning, so a
+/// searched size drifted off the pitch); the signal model's controls are not searched (at
+/// friction 1 they are silent).
+pub fn friction_dims(p: &Params) -> Vec<Dim> {
+    let _ = p;
+    [
+        dim("friction", 0.0, 1.0, false),
+        dim("pressure_n", 0.05, 20.0, true),
+        dim("velocity", 0.01, crate::match_space::MAX_VELOCITY, true),
+        dim("position_x", -1.0, 1.0, false),
+        dim("position_y", -1.0, 1.0, false),
+        dim("decay", 0.1, 10.0, true),
+        dim("gain_db", -12.0, 12.0, false),
+    ]
+    .into_iter()
+    .flatten()
+    .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn render(p: &Params, fs: f64, seconds: f64) -> Vec<f64> {
+        let mut v = Voice::new(fs, p);
+        let mut out = vec![0f32; (seconds * fs) as usize];
+        v.process(&mut out);
+        out.iter().map(|&s| f64::from(s)).collect()
+    }
+
+    /// The wine glass reads as a tone on its breathing mode (677.2 Hz, docs/guide/friction.md)
+    /// within 0.3 %; the rubbing cloth (noise through a wooden plate) does not read as tonal.
+    #[test]
+    fn a_sung_glass_is_tonal_and_a_rubbed_cloth_is_not() {
+        let fs = 48_000.0;
+        let glass = Preset::builtin("finger-on-wine-glass").unwrap().params;
+        let x = render(&glass, fs, 2.5);
+        let t = tone(&x[fs as usize..], fs).unwrap();
+        assert!(t.is_tonal(), "{t:?}");
+        assert!((t.pitch_hz / 677.2 - 1.0).abs() < 0.003, "{t:?}");
+        let cloth = Preset::builtin("rubbing-cloth").unwrap().params;
+        let y = render(&cloth, fs, 2.5);
+        let u = tone(&y[fs as usize..], fs).unwrap();
+        assert!(!u.is_tonal(), "{u:?}");
+    }
+
+    /// Tuned to 500 Hz, each template that sings sings there within 1 %.
+    #[test]
+    fn friction_starts_sing_at_the_pitch_asked() {
+        let fs = 24_000.0;
+        let starts = friction_starts(500.0, fs);
+        assert!(!starts.is_empty());
+        for p in &starts {
+            let f = sung_pitch_hz(p, fs).unwrap();
+            assert!((f / 500.0 - 1.0).abs() < 0.01, "{f}");
+        }
+    }
+}
