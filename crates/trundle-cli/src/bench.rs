@@ -257,6 +257,8 @@ fn fitted_object(play_phase: bool) -> Result<Arc<LoadedObject>, CliError> {
             amplitude: 0.2 / (1.0 + 0.1 * k as f64),
             phase_rad: 2.4 * k as f64 - 3.0,
             decay_sd_s: 0.0,
+            glide_hz: 0.0,
+            glide_s: 0.0,
         })
         .collect();
     let object = FittedObject {

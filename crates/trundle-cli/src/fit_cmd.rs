@@ -186,12 +186,20 @@ pub fn run(args: &FitObjectArgs) -> Result<String, CliError> {
                 "residual_db": b.residual_db,
                 "explained_db": b.explained_db,
             })).collect::<Vec<_>>(),
-            "strongest_modes": strongest(&fit).iter().map(|m| json!({
-                "freq_hz": m.freq_hz,
-                "decay_s": m.decay_s,
-                "decay_sd_s": m.decay_sd_s,
-                "amplitude": m.amplitude,
-            })).collect::<Vec<_>>(),
+            "strongest_modes": strongest(&fit).iter().map(|m| {
+                let mut o = json!({
+                    "freq_hz": m.freq_hz,
+                    "decay_s": m.decay_s,
+                    "decay_sd_s": m.decay_sd_s,
+                    "amplitude": m.amplitude,
+                });
+                // A gliding mode (object file version 3): f∞ + Δf·e^{−t/τg}.
+                if m.glide_hz != 0.0 {
+                    o["glide_hz"] = json!(m.glide_hz);
+                    o["glide_s"] = json!(m.glide_s);
+                }
+                o
+            }).collect::<Vec<_>>(),
         });
         return Ok(serde_json::to_string_pretty(&s).expect("JSON values serialize") + "\n");
     }
@@ -219,9 +227,17 @@ pub fn run(args: &FitObjectArgs) -> Result<String, CliError> {
     out.push_str("strongest modes (Hz, decay s ± standard uncertainty, amplitude):\n");
     for m in strongest(&fit) {
         out.push_str(&format!(
-            "  {:9.2}  {:8.4} ± {:<8.4}  {:.4}\n",
+            "  {:9.2}  {:8.4} ± {:<8.4}  {:.4}",
             m.freq_hz, m.decay_s, m.decay_sd_s, m.amplitude
         ));
+        if m.glide_hz != 0.0 {
+            out.push_str(&format!(
+                "  glides {:+.2} Hz·e^(−t/{:.0} ms)",
+                m.glide_hz,
+                m.glide_s * 1e3
+            ));
+        }
+        out.push('\n');
     }
     Ok(out)
 }

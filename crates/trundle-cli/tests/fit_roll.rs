@@ -217,6 +217,8 @@ fn a_roll_on_a_known_object_is_fitted_through_its_inverse() {
             amplitude: m.gain.abs(),
             phase_rad: -std::f64::consts::FRAC_PI_2.copysign(m.gain),
             decay_sd_s: 0.0,
+            glide_hz: 0.0,
+            glide_s: 0.0,
         })
         .collect();
     let file = FittedObject {

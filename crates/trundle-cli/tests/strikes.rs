@@ -27,7 +27,7 @@ const KNOWN_OUTSIDE: [(&str, &str); 2] = [
     ),
     (
         "tom, low (kit)",
-        "28 cents: its fundamental glides 69.2 + 6.7·e^(−t/94 ms) Hz (a semitone over 0.5 s) as the head relaxes; a mode's frequency does not",
+        "11.4 cents: its fundamental is fitted as a gliding mode (69.0 + 6.4·e^(−t/108 ms) Hz, its peak 5.7 cents off), but six of its higher modes (109–174 Hz, 5 Hz apart, gliding too) are not placed (28 to 105 cents)",
     ),
 ];
 use trundle_test_support::strike_corpus::{measure, stem, table, CORPUS};
@@ -43,8 +43,12 @@ fn every_corpus_strike_is_inside_the_three_limits() {
     let d = scratch("strikes");
     let dir = keep.clone().unwrap_or_else(|| d.to_path_buf());
     std::fs::create_dir_all(&dir).expect("TRUNDLE_STRIKES_DIR can be made");
+    // TRUNDLE_STRIKES_ONLY=NAME judges only the strikes whose name contains NAME (the
+    // count of strikes inside is then not checked).
+    let only = std::env::var("TRUNDLE_STRIKES_ONLY").ok();
     let rows: Vec<_> = CORPUS
         .iter()
+        .filter(|s| only.as_ref().is_none_or(|o| s.name.contains(o.as_str())))
         .map(|s| {
             let png = dir.join(format!("{}.png", stem(s.name)));
             let png = png.to_str().expect("UTF-8 path").to_owned();
@@ -75,7 +79,7 @@ fn every_corpus_strike_is_inside_the_three_limits() {
     assert!(failed.is_empty(), "outside the limits: {failed:?}\n{t}");
     let inside = rows.iter().filter(|r| r.pass()).count();
     assert!(
-        inside >= CORPUS.len() - KNOWN_OUTSIDE.len(),
+        only.is_some() || inside >= CORPUS.len() - KNOWN_OUTSIDE.len(),
         "{inside} inside\n{t}"
     );
 }

@@ -39,6 +39,8 @@ fn truth(sample_rate_hz: f64) -> FittedObject {
         amplitude: a,
         phase_rad: phase,
         decay_sd_s: 0.0,
+        glide_hz: 0.0,
+        glide_s: 0.0,
     };
     FittedObject {
         sample_rate_hz,
@@ -220,6 +222,8 @@ fn quality_caps_the_explicit_modes_and_keeps_the_energy() {
             amplitude: 0.1 / (1.0 + k as f64 * 0.1),
             phase_rad: k as f64,
             decay_sd_s: 0.0,
+            glide_hz: 0.0,
+            glide_s: 0.0,
         })
         .filter(|m| m.freq_hz < 20_000.0)
         .collect();

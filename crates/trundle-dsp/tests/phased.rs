@@ -193,6 +193,8 @@ fn strike_modes() -> Vec<FitMode> {
             amplitude: a,
             phase_rad: core::f64::consts::TAU * uniform(100 + k as u64) - core::f64::consts::PI,
             decay_sd_s: 0.0,
+            glide_hz: 0.0,
+            glide_s: 0.0,
         })
         .collect()
 }

@@ -347,6 +347,8 @@ mod tests {
                 amplitude: 0.2 / (1.0 + 0.2 * f64::from(k)),
                 phase_rad: 2.1 * f64::from(k) - 2.9,
                 decay_sd_s: 0.0,
+                glide_hz: 0.0,
+                glide_s: 0.0,
             })
             .collect();
         let mut file = some_object();
@@ -416,5 +418,51 @@ mod tests {
         let sine = ObjectSlot::default();
         sine.set(Some(phased_object(false))).unwrap();
         assert_ne!(render(&sine).1, before.1, "the phases made no difference");
+    }
+
+    /// A session with a gliding object (object file version 3) reopens bit for bit, and
+    /// the glide survives (the reopened object is not the fixed one).
+    #[test]
+    fn a_session_with_a_gliding_object_reopens_bit_for_bit() {
+        use crate::params::state::check_state;
+        use nice_plug::plugin::PluginState;
+        let mut file = phased_object(true);
+        file.object.modes[0].glide_hz = 9.0;
+        file.object.modes[0].glide_s = 0.08;
+        let slot = ObjectSlot::default();
+        slot.set(Some(file)).unwrap();
+        let before = render(&slot);
+        let text = slot.to_state_text().unwrap();
+        assert!(text.contains("\"trundle_object\":3"), "{text}");
+        let mut state = PluginState {
+            version: "0.1.0".into(),
+            params: crate::params::state::default_state_params(),
+            fields: [
+                (
+                    crate::params::STATE_VERSION_FIELD.to_string(),
+                    crate::params::STATE_VERSION.to_string(),
+                ),
+                (OBJECT_FIELD.to_string(), text),
+            ]
+            .into(),
+        };
+        let json = serde_json::to_string(&state).unwrap();
+        state = serde_json::from_str(&json).unwrap();
+        assert!(check_state(&mut state).is_empty());
+        let reopened = ObjectSlot::default();
+        reopened
+            .set(Some(
+                ObjectSlot::parse(&state.fields[OBJECT_FIELD]).unwrap(),
+            ))
+            .unwrap();
+        assert_eq!(reopened.file().unwrap().object.modes[0].glide_hz, 9.0);
+        assert_eq!(
+            render(&reopened),
+            before,
+            "the reopened session sounds different"
+        );
+        let fixed = ObjectSlot::default();
+        fixed.set(Some(phased_object(true))).unwrap();
+        assert_ne!(render(&fixed).1, before.1, "the glide made no difference");
     }
 }

@@ -177,6 +177,8 @@ mod tests {
                 amplitude: a,
                 phase_rad: p,
                 decay_sd_s: 0.0,
+                glide_hz: 0.0,
+                glide_s: 0.0,
             })
             .collect();
         let x = resynthesize(&modes, fs, 20_000);

@@ -41,6 +41,8 @@ mod tests {
                 amplitude: 0.21,
                 phase_rad: -1.2,
                 decay_sd_s: 0.004,
+                glide_hz: 0.0,
+                glide_s: 0.0,
             }],
             envelope: vec![EnvelopeBand {
                 centre_hz: 1000.0,

@@ -31,6 +31,7 @@ pub mod cmaes;
 pub mod deconvolve;
 pub mod envelope;
 pub mod explained;
+pub mod glide;
 pub mod joint;
 #[cfg(feature = "presets")]
 pub mod json;
@@ -133,6 +134,9 @@ pub const MIN_MODE_HZ: f64 = 50.0;
 pub const MAX_MODE_HZ: f64 = 20_000.0;
 /// Modes whose energy aₖ²τₖ lies this far under the strongest mode's are dropped.
 pub const MODE_FLOOR_DB: f64 = -90.0;
+/// A fit with gliding modes is kept when its residual is at most this much (dB) above the
+/// fixed modes' ([`glide`]).
+pub const GLIDE_RESIDUAL_DB: f64 = 1.0;
 /// Most decimated samples per band (the span analysed by ESPRIT).
 pub const BAND_SAMPLES: usize = 640;
 
@@ -274,10 +278,22 @@ pub fn check_strike(x: &[f64], sample_rate_hz: f64) -> Result<(usize, usize), Fi
     Ok((free, end))
 }
 
-/// Sum of modes, t from sample 0, `len` samples at `sample_rate_hz`.
+/// Sum of modes, t from sample 0, `len` samples at `sample_rate_hz` (a gliding mode as
+/// [`glide::gliding_phasor`]).
 pub fn resynthesize(modes: &[FitMode], sample_rate_hz: f64, len: usize) -> Vec<f64> {
     let mut y = vec![0.0; len];
     for m in modes {
+        if m.glide_hz != 0.0 {
+            let c = Complex::from_polar(m.amplitude, m.phase_rad);
+            for (i, v) in y.iter_mut().enumerate() {
+                let t = i as f64 / sample_rate_hz;
+                *v += (c * glide::gliding_phasor(m, t)).re;
+                if t > 40.0 * m.decay_s {
+                    break;
+                }
+            }
+            continue;
+        }
         let z = Complex::from_polar(
             (-1.0 / (m.decay_s * sample_rate_hz)).exp(),
             TAU * m.freq_hz / sample_rate_hz,
@@ -375,6 +391,18 @@ pub fn fit_strike_with(
                 model = y;
                 residual_db = r;
             }
+        }
+    }
+    // Gliding modes (`glide`): kept when they explain the recording as well as the fixed
+    // modes they replace, within GLIDE_RESIDUAL_DB (a listener hears the glide; a pair of
+    // fixed modes beating in its place explains about as much energy).
+    if let Some(g) = glide::find(sig, fs, &modes, &model) {
+        let y = resynthesize(&g, fs, sig.len());
+        let r = self::residual_db(sig, &y);
+        if r < residual_db + GLIDE_RESIDUAL_DB {
+            modes = g;
+            model = y;
+            residual_db = r;
         }
     }
     let residual: Vec<f64> = sig.iter().zip(&model).map(|(a, b)| a - b).collect();
@@ -538,6 +566,8 @@ fn fit_band(sig: &[f64], fs: f64, band: bands::Band, refine_decays: bool) -> Vec
             amplitude: ck.norm(),
             phase_rad: ck.arg(),
             decay_sd_s,
+            glide_hz: 0.0,
+            glide_s: 0.0,
         });
     }
     out

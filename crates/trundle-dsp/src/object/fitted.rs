@@ -83,6 +83,14 @@ pub struct FitMode {
     /// Standard uncertainty of τₖ (s) as the fit estimated it; 0 = not stated (files
     /// written before it existed, modes set by hand).
     pub decay_sd_s: f64,
+    /// Pitch glide Δfₖ (Hz; 0 = a fixed mode): struck once, the mode sounds at
+    /// fₖ + Δfₖ·e^{−t/τgₖ} (a membrane's tension relaxing, docs/MODEL.md §6). Object file
+    /// version 3; absent in older files.
+    pub glide_hz: f64,
+    /// The glide's 1/e time τgₖ (s; 0 when `glide_hz` is 0). Played as a glide that follows
+    /// the mode's own amplitude: f = fₖ + Δfₖ·(a/a₀)^{τₖ/τgₖ}, a₀ the amplitude a unit
+    /// impulse gives (see [`LoadedMode::glide_exp`]).
+    pub glide_s: f64,
 }
 
 /// One band of the residual's spectral envelope.
@@ -143,7 +151,9 @@ pub const SPECTRUM_SPAN_S: f64 = 0.5;
 /// The newest object file version this build reads, and the one it writes for an object
 /// played with its phases ([`FittedObject::play_phase`]); an object read from a version-1
 /// file (sine phase) is written back as version 1, so it keeps its sound.
-pub const OBJECT_VERSION: u64 = 2;
+/// Version 3 adds the modes' optional glide ([`FitMode::glide_hz`]); an object without a
+/// gliding mode is still written as version 2, byte for byte as before.
+pub const OBJECT_VERSION: u64 = 3;
 
 /// Longest decay an object file may give (s): beyond it a mode does not decay.
 pub const MAX_DECAY_S: f64 = 3600.0;
@@ -209,6 +219,26 @@ impl FittedObject {
                     "{} = {} must be between 0 and {MAX_AMPLITUDE} (full scale = 1)",
                     field("amplitude"),
                     m.amplitude
+                ));
+            }
+            if !(m.glide_hz.is_finite() && m.glide_s.is_finite()) {
+                return Err(format!(
+                    "{} must be finite numbers",
+                    field("glide_hz/glide_s")
+                ));
+            }
+            if m.glide_hz != 0.0
+                && !(m.glide_s > 0.0
+                    && m.glide_s <= MAX_DECAY_S
+                    && m.freq_hz + m.glide_hz > 0.0
+                    && m.freq_hz + m.glide_hz < 0.5 * fs)
+            {
+                return Err(format!(
+                    "{} = {} Hz needs {} in (0, {MAX_DECAY_S}] s and f + Δf in (0, {} Hz)",
+                    field("glide_hz"),
+                    m.glide_hz,
+                    field("glide_s"),
+                    0.5 * fs
                 ));
             }
             if m.phase_rad.abs() > 1e3 {
@@ -311,6 +341,13 @@ pub struct LoadedMode {
     pub side: f64,
     /// Third-octave band ([`band_index`]) where its energy goes when the quality drops it.
     pub band: usize,
+    /// Glide Δf (Hz, as fitted; 0 = a fixed mode).
+    pub glide_hz: f64,
+    /// Exponent of the amplitude-following glide, τₖ/τgₖ: the mode plays at
+    /// f + Δf·(|z|²/|g + ih|²)^{glide_exp/2}, |z| its state and |g + ih| its input gain, so a
+    /// unit impulse glides as f + Δf·e^{−t/τg} exactly, a softer strike or a roll (smaller
+    /// |z|) less.
+    pub glide_exp: f64,
 }
 
 /// A band of the band part of a [`LoadedObject`].
@@ -392,6 +429,12 @@ impl LoadedObject {
                     gain_im,
                     side: unit(i as u64),
                     band: band_index(m.freq_hz),
+                    glide_hz: m.glide_hz,
+                    glide_exp: if m.glide_hz != 0.0 {
+                        m.decay_s / m.glide_s
+                    } else {
+                        0.0
+                    },
                 }
             })
             .collect();

@@ -7,7 +7,13 @@ use serde_json::{json, Value};
 /// The object file of `fit`, naming the recording `source`.
 pub fn to_json(fit: &FittedObject, source: &str) -> Value {
     json!({
-        "trundle_object": if fit.play_phase { OBJECT_VERSION } else { 1 },
+        "trundle_object": if !fit.play_phase {
+            1
+        } else if fit.modes.iter().any(|m| m.glide_hz != 0.0) {
+            OBJECT_VERSION
+        } else {
+            2
+        },
         "source": source,
         "sample_rate_hz": fit.sample_rate_hz,
         "onset_s": fit.onset_s,
@@ -25,6 +31,11 @@ pub fn to_json(fit: &FittedObject, source: &str) -> Value {
             // Optional: written only when the fit stated it.
             if m.decay_sd_s > 0.0 {
                 o["decay_sd_s"] = json!(m.decay_sd_s);
+            }
+            // Optional (version 3): only a gliding mode has them.
+            if m.glide_hz != 0.0 {
+                o["glide_hz"] = json!(m.glide_hz);
+                o["glide_s"] = json!(m.glide_s);
             }
             o
         }).collect::<Vec<_>>(),
@@ -84,6 +95,14 @@ pub fn from_json(v: &Value) -> Result<(FittedObject, String), String> {
             decay_sd_s: match m.get("decay_sd_s") {
                 None => 0.0,
                 Some(_) => num(m, "decay_sd_s", &at)?,
+            },
+            glide_hz: match m.get("glide_hz") {
+                None => 0.0,
+                Some(_) => num(m, "glide_hz", &at)?,
+            },
+            glide_s: match m.get("glide_s") {
+                None => 0.0,
+                Some(_) => num(m, "glide_s", &at)?,
             },
         };
         if mode.freq_hz <= 0.0

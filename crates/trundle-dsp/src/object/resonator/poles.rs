@@ -233,6 +233,7 @@ impl Object {
         // Energy (a²τ) and energy × τ of the modes over the cap, per band.
         let mut over = [(0.0f64, 0.0f64); BANDS];
         let mut n = 0usize;
+        self.glides.clear();
         let span = self.modes.max(self.bank.active()).min(self.info.len());
         let place = |o: &mut Self, k: usize, f: f64, tau: f64, (g, h): (f64, f64), side: f64| {
             o.info[k].freq_hz = f;
@@ -255,6 +256,10 @@ impl Object {
             let (g, h) = (k_a * m.gain, k_a * m.gain_im);
             if n < cap {
                 place(self, n, f, tau, (g, h), m.side);
+                let df = m.glide_hz * transpose;
+                if df != 0.0 && f + df > 0.0 && f + df < nyquist {
+                    self.glides.push(n, f, df, m.glide_exp, tau);
+                }
                 n += 1;
             } else {
                 let e = (g * g + h * h) * tau;

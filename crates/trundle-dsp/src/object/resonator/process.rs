@@ -44,6 +44,7 @@ impl Object {
             out.iter_mut().for_each(|y| *y = 0.0);
             return;
         }
+        self.apply_glides();
         self.bank.process(force, out);
         if self.long.used() > 0 {
             self.long.process_add(force, out, None);
@@ -61,6 +62,7 @@ impl Object {
             side.iter_mut().for_each(|y| *y = 0.0);
             return;
         }
+        self.apply_glides();
         if self.width.value() == 0.0 && !self.width.is_moving() {
             self.bank.process(force, mid);
             side.iter_mut().for_each(|y| *y = 0.0);
