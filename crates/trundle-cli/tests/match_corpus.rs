@@ -59,7 +59,7 @@ const MATCH_SECONDS: f64 = 5.0;
 const KNOWN_OUTSIDE: [(&str, &str); 12] = [
     (
         "tyres on asphalt",
-        "all four at every seed, but not closer than shaped noise: noise already passes this steady clip's modulation and texture (2.76 dB, 0.77); the match reaches 3.11 dB, 0.90",
+        "all four at 2 of 3 seeds (3 of 3 before micro's envelope rose over 0.1 ms), and not closer than shaped noise: noise already passes this steady clip's modulation and texture (2.76 dB, 0.77); the match reaches 3.41 dB, 1.04",
     ),
     (
         "metal scraping asphalt",
@@ -108,7 +108,7 @@ const KNOWN_OUTSIDE: [(&str, &str); 12] = [
 /// all four measures at every seed, closer than shaped noise, own spectrum within 8 dB, 1.5×
 /// brighter. The test fails if a change to `match` loses any of them (the CPU budget is left
 /// out: it depends on the machine).
-const MEASURED: [usize; 4] = [1, 7, 5, 11];
+const MEASURED: [usize; 4] = [0, 7, 5, 11];
 
 /// One clip's verdicts.
 struct Row {
