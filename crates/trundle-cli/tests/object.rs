@@ -249,7 +249,7 @@ fn bad_object_files_are_refused_with_exit_code_2_naming_the_file() {
         &["mode 0", "decay"],
     );
     let mut v = object_json(48_000.0);
-    v["trundle_object"] = json!(3);
+    v["trundle_object"] = json!(trundle_dsp::fit::json::OBJECT_VERSION + 1);
     let newer = write_object(&d, "newer.object.json", &v);
     expect(
         &["render", "--object", s(&newer), "-o", s(&wav)],

@@ -62,7 +62,7 @@ mod tests {
         let back: Value = serde_json::from_str(&text).unwrap();
         assert_eq!(from_json(&back).unwrap(), (fit, "knock.wav".to_string()));
         let mut newer = back.clone();
-        newer["trundle_object"] = json!(3);
+        newer["trundle_object"] = json!(OBJECT_VERSION + 1);
         assert!(from_json(&newer).unwrap_err().contains("newer"));
         let mut bad = back;
         bad["modes"][0]["decay_s"] = json!(-1.0);
