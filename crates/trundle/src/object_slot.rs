@@ -376,18 +376,11 @@ mod tests {
         (rolled, l)
     }
 
-    /// A session with a phase-carrying object, saved (the state's text through the plugin
-    /// state's JSON and its check) and reopened, plays the same samples bit for bit; the
-    /// phases survive (the reopened object is not the sine-phase one).
-    #[test]
-    fn a_session_with_a_phased_object_reopens_bit_for_bit() {
+    /// `text` (an object's state JSON) saved in a session's state, the state through JSON and
+    /// its check, and reopened in a fresh slot.
+    fn reopen(text: String) -> ObjectSlot {
         use crate::params::state::check_state;
         use nice_plug::plugin::PluginState;
-        let slot = ObjectSlot::default();
-        slot.set(Some(phased_object(true))).unwrap();
-        let before = render(&slot);
-        let text = slot.to_state_text().unwrap();
-        assert!(text.contains("\"trundle_object\":2"), "{text}");
         let mut state = PluginState {
             version: "0.1.0".into(),
             params: crate::params::state::default_state_params(),
@@ -409,6 +402,20 @@ mod tests {
                 ObjectSlot::parse(&state.fields[OBJECT_FIELD]).unwrap(),
             ))
             .unwrap();
+        reopened
+    }
+
+    /// A session with a phase-carrying object, saved (the state's text through the plugin
+    /// state's JSON and its check) and reopened, plays the same samples bit for bit; the
+    /// phases survive (the reopened object is not the sine-phase one).
+    #[test]
+    fn a_session_with_a_phased_object_reopens_bit_for_bit() {
+        let slot = ObjectSlot::default();
+        slot.set(Some(phased_object(true))).unwrap();
+        let before = render(&slot);
+        let text = slot.to_state_text().unwrap();
+        assert!(text.contains("\"trundle_object\":2"), "{text}");
+        let reopened = reopen(text);
         assert!(reopened.file().unwrap().object.play_phase);
         assert_eq!(
             render(&reopened),
@@ -424,8 +431,6 @@ mod tests {
     /// the glide survives (the reopened object is not the fixed one).
     #[test]
     fn a_session_with_a_gliding_object_reopens_bit_for_bit() {
-        use crate::params::state::check_state;
-        use nice_plug::plugin::PluginState;
         let mut file = phased_object(true);
         file.object.modes[0].glide_hz = 9.0;
         file.object.modes[0].glide_s = 0.08;
@@ -434,27 +439,7 @@ mod tests {
         let before = render(&slot);
         let text = slot.to_state_text().unwrap();
         assert!(text.contains("\"trundle_object\":3"), "{text}");
-        let mut state = PluginState {
-            version: "0.1.0".into(),
-            params: crate::params::state::default_state_params(),
-            fields: [
-                (
-                    crate::params::STATE_VERSION_FIELD.to_string(),
-                    crate::params::STATE_VERSION.to_string(),
-                ),
-                (OBJECT_FIELD.to_string(), text),
-            ]
-            .into(),
-        };
-        let json = serde_json::to_string(&state).unwrap();
-        state = serde_json::from_str(&json).unwrap();
-        assert!(check_state(&mut state).is_empty());
-        let reopened = ObjectSlot::default();
-        reopened
-            .set(Some(
-                ObjectSlot::parse(&state.fields[OBJECT_FIELD]).unwrap(),
-            ))
-            .unwrap();
+        let reopened = reopen(text);
         assert_eq!(reopened.file().unwrap().object.modes[0].glide_hz, 9.0);
         assert_eq!(
             render(&reopened),
