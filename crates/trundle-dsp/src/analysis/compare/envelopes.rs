@@ -11,8 +11,18 @@
 //! part and its Hilbert transform), and the magnitude, compressed, is averaged into
 //! [`ENVELOPE_RATE_HZ`] frames.
 
+use std::cell::RefCell;
+
 use realfft::num_complex::Complex;
 use realfft::RealFftPlanner;
+
+use super::compress::Compressor;
+
+thread_local! {
+    /// One planner per thread: `trundle match` analyses hundreds of candidates of the same
+    /// length, and a plan's twiddle factors are worth computing once.
+    static PLANNER: RefCell<RealFftPlanner<f64>> = RefCell::new(RealFftPlanner::new());
+}
 
 /// Number of envelope bands.
 pub const ENVELOPE_BANDS: usize = 6;
@@ -72,9 +82,11 @@ pub fn envelope_edges_hz(top_hz: f64) -> Vec<(f64, f64)> {
 pub fn band_envelopes(x: &[f64], sample_rate_hz: f64, top_hz: f64) -> BandEnvelopes {
     let edges_hz = envelope_edges_hz(top_hz.min(0.5 * sample_rate_hz));
     let n = x.len().max(2).next_power_of_two();
-    let mut planner = RealFftPlanner::<f64>::new();
-    let forward = planner.plan_fft_forward(n);
-    let inverse = planner.plan_fft_inverse(n);
+    let (forward, inverse) = PLANNER.with(|p| {
+        let mut planner = p.borrow_mut();
+        (planner.plan_fft_forward(n), planner.plan_fft_inverse(n))
+    });
+    let compressor = Compressor::new();
     let mut buf = forward.make_input_vec();
     buf[..x.len()].copy_from_slice(x);
     let mut spec = forward.make_output_vec();
@@ -110,13 +122,13 @@ pub fn band_envelopes(x: &[f64], sample_rate_hz: f64, top_hz: f64) -> BandEnvelo
             };
             inverse_of(false, &mut re);
             inverse_of(true, &mut im);
-            let scale = 1.0 / n as f64;
+            let scale2 = (1.0 / n as f64).powi(2);
             (0..frames)
                 .map(|f| {
                     let a = (f as f64 * frame) as usize;
                     let b = (((f + 1) as f64 * frame) as usize).min(x.len());
                     let sum: f64 = (a..b)
-                        .map(|i| (scale * re[i].hypot(im[i])).powf(COMPRESSION))
+                        .map(|i| compressor.of_squared(scale2 * (re[i] * re[i] + im[i] * im[i])))
                         .sum();
                     sum / (b - a).max(1) as f64
                 })

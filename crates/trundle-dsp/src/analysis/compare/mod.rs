@@ -14,6 +14,7 @@
 //! independent: a candidate needs no gain matching. Stereo is compared as its mono mix (the
 //! caller's).
 
+mod compress;
 pub mod envelopes;
 pub mod impulsiveness;
 pub mod modulation;
