@@ -4,47 +4,22 @@
 //! tone) is written but reported plainly as outside (exit 3), naming the failing measure;
 //! bad input is refused with exit 2.
 
+mod common;
+
+use common::matched as matched_any;
 use trundle_test_support::cli::{json, ok, run, stderr, stdout};
 use trundle_test_support::scratch::scratch;
 
+/// A mono render of `sets` at `seed`, `seconds` long, to `out`.
 fn render(dir: &std::path::Path, sets: &[&str], seconds: &str, seed: &str, out: &str) {
-    let mut args = vec![
-        "render",
-        "--seconds",
-        seconds,
-        "--seed",
-        seed,
-        "--channels",
-        "1",
-        "-o",
-        out,
-    ];
-    for s in sets {
-        args.push("--set");
-        args.push(s);
-    }
-    ok(dir, &args);
+    common::render(dir, &["--seconds", seconds, "--seed", seed], sets, out);
 }
 
-/// Match `target.wav` in `dir`; the JSON report and the exit code.
+/// Match `target.wav` in `dir` (its 3 s); the JSON report and the exit code.
 fn matched(dir: &std::path::Path, extra: &[&str]) -> (serde_json::Value, i32) {
-    let mut args = vec![
-        "match",
-        "target.wav",
-        "-o",
-        "m.json",
-        "--seconds",
-        "3",
-        "--json",
-        "--jobs",
-        "0",
-    ];
+    let mut args = vec!["--seconds", "3"];
     args.extend_from_slice(extra);
-    let o = run(dir, &args);
-    let code = o.status.code().unwrap_or(-1);
-    let v: serde_json::Value = serde_json::from_str(&stdout(&o))
-        .unwrap_or_else(|e| panic!("not JSON ({e}): {} {}", stdout(&o), stderr(&o)));
-    (v, code)
+    matched_any(dir, &args)
 }
 
 /// The match of a render of `sets` (seed 77), judged against the true settings rendered at
