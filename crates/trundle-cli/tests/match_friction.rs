@@ -2,7 +2,8 @@
 //! friction restart tuned to its pitch and holds at seeds the search never heard (pitch
 //! within 1 %, all four of compare's measures, and the model's own spectrum — `body_eq` 0 —
 //! within the 6 dB of the recording's); a noisy rub gets no friction restarts and
-//! comes out with friction off. Short excerpts (2 s) keep CI time small.
+//! comes out with friction off. Short excerpts (2 s) keep CI time small (~2 min for the
+//! file on two shared cores).
 
 mod common;
 
