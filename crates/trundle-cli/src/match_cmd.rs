@@ -23,7 +23,10 @@ use crate::compare_cmd::load_mono;
 use crate::error::{failure, input, quote, CliError};
 use crate::fit_cmd::{fit_file, write_text};
 use crate::match_pitch::{friction_starts, harmonic_presearch, tone, tune_size};
-use crate::match_search::{judge, search, Judged, Plan, Target};
+use crate::match_search::{
+    judge, search, Judged, Plan, Target, BRIGHTNESS_WEIGHT, MIN_BRIGHTNESS, OWN_SPECTRUM_TARGET_DB,
+    OWN_SPECTRUM_WEIGHT, TONAL_OWN_SPECTRUM_TARGET_DB, TONAL_OWN_SPECTRUM_WEIGHT,
+};
 use crate::match_space::{action_cue, action_name, dims, restarts_for, with_restart, RESTARTS};
 use crate::match_start::{estimate, starts};
 use crate::output::check_destination;
@@ -298,16 +301,21 @@ pub fn run(args: &MatchArgs) -> Result<(String, u8), CliError> {
         .zip(&validation.comparisons)
         .map(|(&s, c)| comparison_json(s, c))
         .collect();
+    let (own_goal_db, own_weight) = if target.tonal {
+        (TONAL_OWN_SPECTRUM_TARGET_DB, TONAL_OWN_SPECTRUM_WEIGHT)
+    } else {
+        (OWN_SPECTRUM_TARGET_DB, OWN_SPECTRUM_WEIGHT)
+    };
+    let loss_note = format!(
+        "½(mean + max) of compare's loss over the validation seeds, + {BRIGHTNESS_WEIGHT} per unit of brightness ratio under {MIN_BRIGHTNESS}, + {own_weight} per dB of the model's own spectrum beyond {own_goal_db} dB{}",
+        if target.tonal { " (a tonal recording)" } else { "" }
+    );
     let record = json!({
         "recording": name,
         "seconds": target.samples as f64 / fs,
         "passed": matched,
         "loss": validation.loss,
-        "loss_note": if target.tonal {
-            "½(mean + max) of compare's loss over the validation seeds, + 5 per unit of brightness ratio under 1.1, + 0.25 per dB of the model's own spectrum beyond 5 dB (a tonal recording)"
-        } else {
-            "½(mean + max) of compare's loss over the validation seeds, + 5 per unit of brightness ratio under 1.1, + 0.07 per dB of the model's own spectrum beyond 7 dB"
-        },
+        "loss_note": loss_note,
         "search_loss": best.loss,
         "search_seeds": plan.seeds,
         "validation": per_seed,

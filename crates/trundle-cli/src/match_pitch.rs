@@ -421,6 +421,37 @@ mod tests {
         assert!(!u.is_tonal(), "{u:?}");
     }
 
+    /// The pre-search moves the glass's start towards a glass pressed, drawn and touched
+    /// otherwise (the round trip of `tests/match_friction.rs`): the first point kept is on
+    /// the pitch and its own spectrum closer to the recording's than the start's.
+    #[test]
+    fn the_harmonic_presearch_moves_a_start_towards_the_recording() {
+        let fs = 24_000.0;
+        let mut truth = Preset::builtin("finger-on-wine-glass").unwrap().params;
+        for (k, v) in [
+            ("object_size", 0.13),
+            ("pressure_n", 0.15),
+            ("velocity", 0.13),
+            ("position_x", -0.2),
+        ] {
+            truth.set_clamped(spec_by_key(k).unwrap().id, v);
+        }
+        let x = render(&truth, fs, 3.0);
+        let x = &x[fs as usize..];
+        let pitch_hz = tone(x, fs).unwrap().pitch_hz;
+        let reference = long_term_spectrum(x, fs, 0.5 * fs);
+        let start = friction_starts(pitch_hz, fs)[0];
+        let kept = harmonic_presearch(&start, &reference, pitch_hz, fs, 0.5 * fs);
+        let d = |p: &Params| snippet_distance_db(p, &reference, pitch_hz, fs, 0.5 * fs);
+        let (before, after) = (d(&start).unwrap(), d(&kept[0]).unwrap());
+        assert!(
+            after < before,
+            "{after:.2} dB vs the start's {before:.2} dB"
+        );
+        let f = sung_pitch_hz(&kept[0], fs).unwrap();
+        assert!((f / pitch_hz - 1.0).abs() < 0.01, "{f} vs {pitch_hz}");
+    }
+
     /// Tuned to 500 Hz, each template that sings sings there within 1 %.
     #[test]
     fn friction_starts_sing_at_the_pitch_asked() {
