@@ -17,7 +17,11 @@
 //! over many inharmonic modes and the band between them (Trundle's rubbing cloth: under
 //! 20 %), so the share separates them with a wide margin.
 
+use rayon::prelude::*;
 use realfft::RealFftPlanner;
+use trundle_dsp::analysis::compare::spectrum::{
+    long_term_spectrum, spectrum_distance_db, LongTermSpectrum,
+};
 use trundle_dsp::params::spec_by_key;
 use trundle_dsp::scene::preset::Preset;
 use trundle_dsp::{ParamId, Params, Voice};
@@ -249,6 +253,111 @@ pub fn friction_starts(pitch_hz: f64, fs: f64) -> Vec<Params> {
         .collect()
 }
 
+/// Lead-in (s) of a pre-search snippet, dropped: the contact takes up to ~0.75 s to lock
+/// (docs/guide/friction.md's map reads after 0.75 s).
+pub const SNIPPET_LEAD_S: f64 = 0.75;
+/// Length (s) of a pre-search snippet read after its lead-in: ~0.5 s holds hundreds of
+/// periods of a sung mode, enough for a steady tone's third-octave balance.
+pub const SNIPPET_READ_S: f64 = 0.5;
+/// The pre-search's pressures, as multiples of the start's (a light and a firm touch).
+pub const GRID_PRESSURE: [f64; 3] = [0.5, 1.0, 2.0];
+/// The pre-search's rubbing speeds, as multiples of the start's.
+pub const GRID_VELOCITY: [f64; 2] = [0.7, 1.4];
+/// The pre-search's contact points along x (the start's y): the position picks which modes
+/// the contact couples to, the strongest lever on the harmonics' balance.
+pub const GRID_POSITION_X: [f64; 5] = [-0.6, -0.3, 0.0, 0.3, 0.6];
+/// Largest relative distance of a snippet's pitch from the recording's for a grid point to
+/// count (the winner is sized again; a point that locks another mode is dropped).
+const GRID_PITCH_TOL: f64 = 0.03;
+
+/// `SNIPPET_READ_S` of `p`'s song at `fs` after `SNIPPET_LEAD_S` of lead-in.
+fn snippet(p: &Params, fs: f64) -> Vec<f64> {
+    let lead = (SNIPPET_LEAD_S * fs) as usize;
+    let mut v = Voice::new(fs, p);
+    let mut out = vec![0f32; lead + (SNIPPET_READ_S * fs) as usize];
+    for b in out.chunks_mut(4096) {
+        v.process(b);
+    }
+    out[lead..].iter().map(|&s| f64::from(s)).collect()
+}
+
+/// The model's own spectrum's distance (dB RMS, compare's spectrum measure) of `p`'s
+/// snippet from `reference`, when it sings within 3 % of `pitch_hz`.
+fn snippet_distance_db(
+    p: &Params,
+    reference: &LongTermSpectrum,
+    pitch_hz: f64,
+    fs: f64,
+    top_hz: f64,
+) -> Option<f64> {
+    let x = snippet(p, fs);
+    let t = tone(&x, fs)?;
+    if t.harmonic_share < TONAL_SHARE || (t.pitch_hz / pitch_hz - 1.0).abs() > GRID_PITCH_TOL {
+        return None;
+    }
+    let d = spectrum_distance_db(reference, &long_term_spectrum(&x, fs, top_hz)).1;
+    d.is_finite().then_some(d)
+}
+
+/// Grid points of [`harmonic_presearch`] kept as friction starts, closest first: the
+/// search's loss then weighs compare's four measures among them (the own spectrum alone
+/// does not see a tone's modulation).
+pub const GRID_KEPT: usize = 2;
+
+/// A cheap pre-search of a friction start `p` (tuned to `pitch_hz`) before the CMA-ES: short
+/// snippets over a grid of pressure × speed × contact point ([`GRID_PRESSURE`],
+/// [`GRID_VELOCITY`], [`GRID_POSITION_X`]; 30 points and the start, each 1.25 s), and the
+/// [`GRID_KEPT`] whose own third-octave spectrum lies closest to the `reference` — the
+/// harmonics' balance, which the search's loss sees only through the body EQ — while
+/// singing on the pitch, each sized again ([`tune_size`]). Rendered on the current rayon
+/// pool. The start itself when no grid point sings.
+pub fn harmonic_presearch(
+    p: &Params,
+    reference: &LongTermSpectrum,
+    pitch_hz: f64,
+    fs: f64,
+    top_hz: f64,
+) -> Vec<Params> {
+    let mut grid = vec![*p];
+    for &kp in &GRID_PRESSURE {
+        for &kv in &GRID_VELOCITY {
+            for &x in &GRID_POSITION_X {
+                let mut q = *p;
+                q.set_clamped(ParamId::PressureN, kp * p.get(ParamId::PressureN));
+                q.set_clamped(ParamId::Velocity, kv * p.get(ParamId::Velocity));
+                q.set_clamped(ParamId::PositionX, x);
+                grid.push(q);
+            }
+        }
+    }
+    let scored: Vec<Option<f64>> = grid
+        .par_iter()
+        .map(|q| snippet_distance_db(q, reference, pitch_hz, fs, top_hz))
+        .collect();
+    let mut ranked: Vec<(usize, f64)> = scored
+        .iter()
+        .enumerate()
+        .filter_map(|(i, d)| d.map(|d| (i, d)))
+        .collect();
+    ranked.sort_by(|a, b| a.1.total_cmp(&b.1));
+    let kept: Vec<Params> = ranked
+        .iter()
+        .take(GRID_KEPT)
+        .filter_map(|&(i, _)| {
+            if i == 0 {
+                Some(*p)
+            } else {
+                tune_size(&grid[i], pitch_hz, fs)
+            }
+        })
+        .collect();
+    if kept.is_empty() {
+        vec![*p]
+    } else {
+        kept
+    }
+}
+
 fn dim(key: &str, lo: f64, hi: f64, log: bool) -> Option<Dim> {
     let spec = spec_by_key(key)?;
     let (lo, hi) = (lo.max(spec.min), hi.min(spec.max));
@@ -310,6 +419,37 @@ mod tests {
         let y = render(&cloth, fs, 2.5);
         let u = tone(&y[fs as usize..], fs).unwrap();
         assert!(!u.is_tonal(), "{u:?}");
+    }
+
+    /// The pre-search moves the glass's start towards a glass pressed, drawn and touched
+    /// otherwise (the round trip of `tests/match_friction.rs`): the first point kept is on
+    /// the pitch and its own spectrum closer to the recording's than the start's.
+    #[test]
+    fn the_harmonic_presearch_moves_a_start_towards_the_recording() {
+        let fs = 24_000.0;
+        let mut truth = Preset::builtin("finger-on-wine-glass").unwrap().params;
+        for (k, v) in [
+            ("object_size", 0.13),
+            ("pressure_n", 0.15),
+            ("velocity", 0.13),
+            ("position_x", -0.2),
+        ] {
+            truth.set_clamped(spec_by_key(k).unwrap().id, v);
+        }
+        let x = render(&truth, fs, 3.0);
+        let x = &x[fs as usize..];
+        let pitch_hz = tone(x, fs).unwrap().pitch_hz;
+        let reference = long_term_spectrum(x, fs, 0.5 * fs);
+        let start = friction_starts(pitch_hz, fs)[0];
+        let kept = harmonic_presearch(&start, &reference, pitch_hz, fs, 0.5 * fs);
+        let d = |p: &Params| snippet_distance_db(p, &reference, pitch_hz, fs, 0.5 * fs);
+        let (before, after) = (d(&start).unwrap(), d(&kept[0]).unwrap());
+        assert!(
+            after < before,
+            "{after:.2} dB vs the start's {before:.2} dB"
+        );
+        let f = sung_pitch_hz(&kept[0], fs).unwrap();
+        assert!((f / pitch_hz - 1.0).abs() < 0.01, "{f} vs {pitch_hz}");
     }
 
     /// Tuned to 500 Hz, each template that sings sings there within 1 %.

@@ -6,7 +6,8 @@
 //! (`body_eq` 0). It asserts only that the tonal cue fires (the recording is a steady pitched
 //! rub) and that the match ran: the numbers are a report, not a bar.
 
-use trundle_test_support::cli::{run, stderr, stdout};
+mod common;
+
 use trundle_test_support::scratch::scratch;
 use trundle_test_support::texture_corpus::{load, CORPUS};
 use trundle_test_support::wav::write_wav;
@@ -23,23 +24,7 @@ fn a_bowed_cello_is_matched_and_its_numbers_reported() {
     let s = scratch("match-bowed");
     let dir = s.path();
     write_wav(&dir.join("bowed.wav"), t.sample_rate_hz, 1, &t.to_f64());
-    let o = run(
-        dir,
-        &[
-            "match",
-            "bowed.wav",
-            "-o",
-            "m.json",
-            "--seconds",
-            "1.5",
-            "--json",
-            "--jobs",
-            "0",
-        ],
-    );
-    let code = o.status.code().unwrap_or(-1);
-    let r: serde_json::Value = serde_json::from_str(&stdout(&o))
-        .unwrap_or_else(|e| panic!("not JSON ({e}): {} {}", stdout(&o), stderr(&o)));
+    let (r, code) = common::matched_file(dir, "bowed.wav", &["--seconds", "1.5"]);
     assert!(code == 0 || code == 3, "{r:#}");
     println!(
         "bowed cello ({:.2} s): tone {}, friction restarts {}, friction {:.2}, action {}, {} candidates in {:.1} s",

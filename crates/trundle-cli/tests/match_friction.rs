@@ -1,46 +1,15 @@
 //! `trundle match` and the friction contact (issue #27): a sung glass is matched by a
 //! friction restart tuned to its pitch and holds at seeds the search never heard (pitch
-//! within 1 %, all four of compare's measures; the model's own spectrum is not yet within
-//! the issue's 6 dB, see the bound's comment); a noisy rub gets no friction restarts and
-//! comes out with friction off. Short excerpts (2 s) and a small budget keep CI time small
-//! (~25 s for both).
+//! within 1 %, all four of compare's measures, and the model's own spectrum — `body_eq` 0 —
+//! within the issue's 6 dB of the recording's); a noisy rub gets no friction restarts and
+//! comes out with friction off. Short excerpts (2 s) keep CI time small (~2 min for the
+//! file on two shared cores).
 
-use trundle_test_support::cli::{json, ok, run, stderr, stdout};
+mod common;
+
+use common::{matched, render_stretch};
+use trundle_test_support::cli::json;
 use trundle_test_support::scratch::scratch;
-
-/// The JSON report of `trundle match target.wav` in `dir` and its exit code.
-fn matched(dir: &std::path::Path, extra: &[&str]) -> (serde_json::Value, i32) {
-    let mut args = vec![
-        "match",
-        "target.wav",
-        "-o",
-        "m.json",
-        "--json",
-        "--jobs",
-        "0",
-    ];
-    args.extend_from_slice(extra);
-    let o = run(dir, &args);
-    let code = o.status.code().unwrap_or(-1);
-    let v: serde_json::Value = serde_json::from_str(&stdout(&o))
-        .unwrap_or_else(|e| panic!("not JSON ({e}): {} {}", stdout(&o), stderr(&o)));
-    (v, code)
-}
-
-/// Keep `[from_s, from_s + seconds)` of the mono WAV `path` (in place).
-fn crop(path: &std::path::Path, from_s: f64, seconds: f64) {
-    let mut r = hound::WavReader::open(path).unwrap();
-    let spec = r.spec();
-    let fs = f64::from(spec.sample_rate);
-    let x: Vec<f32> = r.samples::<f32>().map(|s| s.unwrap()).collect();
-    let a = (from_s * fs) as usize;
-    let b = (a + (seconds * fs) as usize).min(x.len());
-    let mut w = hound::WavWriter::create(path, spec).unwrap();
-    for &v in &x[a..b] {
-        w.write_sample(v).unwrap();
-    }
-    w.finalize().unwrap();
-}
 
 /// The strongest spectral peak (Hz) of a mono WAV between `lo` and `hi` Hz: Hann window
 /// over the whole file, parabola through the log magnitudes (0.5 Hz bins over 2 s).
@@ -69,74 +38,36 @@ fn peak_hz(path: &std::path::Path, lo: f64, hi: f64) -> f64 {
     (k as f64 + 0.5 * (l - r) / (l - 2.0 * c + r)) * df
 }
 
-#[test]
-fn a_sung_glass_is_matched_by_friction_on_its_pitch() {
-    let s = scratch("match-glass");
+/// The round trip of a sung glass: `sets` on the wine-glass preset at `seed`, its steady
+/// song 2 s after a 1 s onset (a recording of a rub is taken in its middle, where it has
+/// settled), matched at the default budget; the preset found, rendered at two seeds neither
+/// the target nor the search (1, 2) used, the same stretch, is on the pitch, within all four
+/// limits through its body EQ, and within `own_bar_db` with no EQ.
+fn sung_round_trip(name: &str, sets: &[&str], seed: &str, own_bar_db: f64) {
+    let s = scratch(name);
     let dir = s.path();
-    // The recording: a glass the friction restarts do not hold (smaller, so it sings higher,
-    // pressed and drawn otherwise, touched elsewhere than the preset's), its steady song 2 s
-    // after a 1 s onset (a recording of a rub is taken in its middle, where it has settled).
-    ok(
-        dir,
-        &[
-            "render",
-            "--preset",
-            "finger-on-wine-glass",
-            "--seed",
-            "27",
-            "--seconds",
-            "3",
-            "--channels",
-            "1",
-            "--format",
-            "f32",
-            "--set",
-            "object_size=0.13",
-            "--set",
-            "pressure_n=0.15",
-            "--set",
-            "velocity=0.13",
-            "--set",
-            "position_x=-0.2",
-            "-o",
-            "target.wav",
-        ],
-    );
-    crop(&dir.join("target.wav"), 1.0, 2.0);
-    // The search renders at seeds 1 and 2 (not 27).
-    let (r, code) = matched(dir, &["--seconds", "2", "--budget", "60"]);
+    let target_args = [
+        "--preset",
+        "finger-on-wine-glass",
+        "--seed",
+        seed,
+        "--seconds",
+        "3",
+    ];
+    render_stretch(dir, &target_args, sets, "target.wav", 1.0, 2.0);
+    let (r, code) = matched(dir, &["--seconds", "2"]);
     println!("{r:#}");
     assert!(code == 0 || code == 3, "{r:#}");
     assert!(r["tone"]["tonal"] == true, "{r:#}");
     assert!(r["friction_restarts"].as_u64().unwrap() >= 1, "{r:#}");
     assert!(r["friction"].as_f64().unwrap() > 0.0, "friction off: {r:#}");
     let target_hz = peak_hz(&dir.join("target.wav"), 200.0, 3000.0);
-    // Two seeds neither the target (27) nor the search (1, 2) used.
     for seed in ["4004", "5005"] {
         let (eq, own) = (format!("eq{seed}.wav"), format!("own{seed}.wav"));
         for (file, amount) in [(&eq, "1"), (&own, "0")] {
-            ok(
-                dir,
-                &[
-                    "render",
-                    "--preset",
-                    "m.json",
-                    "--seed",
-                    seed,
-                    "--seconds",
-                    "3",
-                    "--channels",
-                    "1",
-                    "--format",
-                    "f32",
-                    "--set",
-                    &format!("body_eq={amount}"),
-                    "-o",
-                    file,
-                ],
-            );
-            // The same stretch of the preset's song as the recording's.
-            crop(&dir.join(file.as_str()), 1.0, 2.0);
+            let body_eq = format!("body_eq={amount}");
+            let args = ["--preset", "m.json", "--seed", seed, "--seconds", "3"];
+            render_stretch(dir, &args, &[&body_eq], file, 1.0, 2.0);
         }
         let c = json(dir, &["compare", "target.wav", &eq, "--json"]);
         let own_c = json(dir, &["compare", "target.wav", &own, "--json"]);
@@ -148,40 +79,57 @@ fn a_sung_glass_is_matched_by_friction_on_its_pitch() {
         // ±1 %: the issue's limit for a pitch on a mode.
         assert!((f / target_hz - 1.0).abs() < 0.01, "{f} vs {target_hz}");
         assert_eq!(c["passed"], true, "seed {seed}: {c:#}");
-        // The tone should be the model's (issue #27: within 6 dB of the recording's spectrum
-        // with no EQ). NOT met today: at a budget of 60 the search keeps the restart's
-        // pressure, speed and position (only decay moves) and the harmonics' balance stays
-        // 11.6 dB off (measured; at a budget of 120 it reaches 4.6 dB but modulation then
-        // fails, 3.7-4.2 dB). This bound holds today's number with a 1 dB margin and fails
-        // if the search gets worse; at 6 dB it becomes the issue's bar.
         let own_db = own_c["spectrum"]["value"].as_f64().unwrap();
         assert!(
-            own_db <= 12.6,
+            own_db <= own_bar_db,
             "seed {seed}: model's own spectrum {own_db:.2} dB off"
         );
     }
+}
+
+/// A glass the friction restarts do not hold (smaller, so it sings higher, pressed and
+/// drawn otherwise, touched elsewhere than the preset's). The tone must be the model's:
+/// issue #27 wants it within 6 dB of the recording's spectrum with no EQ. Measured: 3.6 dB
+/// at both seeds (11.6 before the harmonic pre-search and the tonal weighting of the own
+/// spectrum), modulation 1.5–2.0 dB at the validation seeds.
+#[test]
+fn a_sung_glass_is_matched_by_friction_on_its_pitch() {
+    let sets = [
+        "object_size=0.13",
+        "pressure_n=0.15",
+        "velocity=0.13",
+        "position_x=-0.2",
+    ];
+    sung_round_trip("match-glass", &sets, "27", 6.0);
+}
+
+/// A second glass, unseen while the pre-search was built: larger (it sings lower), a firmer
+/// touch drawn faster, touched near the far edge, another seed. Measured: all four measures
+/// at the validation seeds (modulation 2.1–2.9 dB), the model's own spectrum 4.6 dB.
+#[test]
+fn a_larger_glass_touched_near_its_edge_is_matched_too() {
+    let sets = [
+        "object_size=0.2",
+        "pressure_n=0.12",
+        "velocity=0.12",
+        "position_x=-0.5",
+    ];
+    sung_round_trip("match-glass2", &sets, "41", 6.0);
 }
 
 #[test]
 fn a_noisy_rub_gets_no_friction() {
     let s = scratch("match-cloth");
     let dir = s.path();
-    ok(
-        dir,
-        &[
-            "render",
-            "--preset",
-            "rubbing-cloth",
-            "--seed",
-            "21",
-            "--seconds",
-            "2.5",
-            "--channels",
-            "1",
-            "-o",
-            "target.wav",
-        ],
-    );
+    let args = [
+        "--preset",
+        "rubbing-cloth",
+        "--seed",
+        "21",
+        "--seconds",
+        "2.5",
+    ];
+    common::render(dir, &args, &[], "target.wav");
     let (r, _) = matched(dir, &["--seconds", "2", "--budget", "16"]);
     assert!(r["tone"]["tonal"] != true, "{r:#}");
     assert_eq!(r["friction_restarts"], 0, "{r:#}");
