@@ -35,6 +35,7 @@ pub mod glide;
 pub mod joint;
 #[cfg(feature = "presets")]
 pub mod json;
+pub mod late;
 pub mod refine;
 pub mod roll;
 pub mod subspace;
@@ -421,6 +422,21 @@ pub fn fit_strike_with(
             let r = self::residual_db(sig, &y);
             if r < residual_db && j.iter().all(|m| m.amplitude <= peak.max(1e-9) * 100.0) {
                 modes = j;
+                model = y;
+                residual_db = r;
+            }
+        }
+    }
+    // A long mode ESPRIT's window could not measure and the refinement did not take, looked
+    // at again after that window to the recording's end (`late`): split into its early and
+    // late rings when they differ, kept when the pair explains more of the recording.
+    if options.refine_decays {
+        let layout = bands::layout(MIN_MODE_HZ, hi);
+        if let Some(s) = late::split(&x[onset..], sig.len(), fs, &layout, &modes) {
+            let y = resynthesize(&s, fs, sig.len());
+            let r = self::residual_db(sig, &y);
+            if r < residual_db + GLIDE_RESIDUAL_DB {
+                modes = s;
                 model = y;
                 residual_db = r;
             }
