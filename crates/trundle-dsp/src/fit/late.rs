@@ -43,7 +43,7 @@ fn one_pole(y: &[Complex<f64>]) -> Option<(Complex<f64>, Complex<f64>, f64)> {
         num += y[m + 1] * y[m].conj();
         den += y[m].norm_sqr();
     }
-    if !(den > 0.0) {
+    if den.is_nan() || den <= 0.0 {
         return None;
     }
     let w = num / den;
@@ -187,7 +187,7 @@ pub fn split(
         let y = super::resynthesize(&pair, fs, x.len());
         let before: f64 = residual.iter().map(|v| v * v).sum();
         let after: f64 = r.iter().zip(&y).map(|(a, b)| (a - b).powi(2)).sum();
-        if !(after < before) || pair.iter().any(|p| !p.amplitude.is_finite()) {
+        if after.is_nan() || after >= before || pair.iter().any(|p| !p.amplitude.is_finite()) {
             continue;
         }
         residual = r.iter().zip(&y).map(|(a, b)| a - b).collect();
