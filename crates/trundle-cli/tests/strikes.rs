@@ -4,8 +4,8 @@
 //! `trundle render --object FIT --impulse`, and judged against its recording
 //! (`trundle_test_support::strike_judge`: median |cents| of the 12 strongest peaks ≤ 10,
 //! median narrow-band T60 ratio 0.67–1.5, RMS third-octave difference of the first 0.5 s
-//! ≤ 6 dB). Two strikes are known to fall outside ([`KNOWN_OUTSIDE`], with why); every
-//! other must pass. The test prints the table the README shows:
+//! ≤ 6 dB). Strikes known to fall outside are listed in [`KNOWN_OUTSIDE`], with why (none
+//! today); every other must pass. The test prints the table the README shows:
 //!
 //! ```sh
 //! cargo test -p trundle-cli --test strikes -- --ignored --nocapture
@@ -17,19 +17,10 @@
 
 use trundle_test_support::scratch::scratch;
 
-/// Strikes known to fall outside the limits today, with why (measured 26 Nov 2026; the
-/// README's table shows their numbers). Every other strike must pass; when one of these
-/// comes inside, the test says so and it leaves this list.
-const KNOWN_OUTSIDE: [(&str, &str); 2] = [
-    (
-        "music box",
-        "decay ratio 1.51 (limit 1.5): its 5.93 kHz partial beats with a neighbour 7 Hz away, and four of the 12 peaks sit in that cluster",
-    ),
-    (
-        "tom, low (kit)",
-        "11.4 cents: its fundamental is fitted as a gliding mode (69.0 + 6.4·e^(−t/108 ms) Hz, its peak 5.7 cents off), but six of its higher modes (109–174 Hz, 5 Hz apart, gliding too) are not placed (28 to 105 cents)",
-    ),
-];
+/// Strikes known to fall outside the limits today, with why (measured 27 Nov 2026: none;
+/// the low tom and the music box came inside, docs/guide/fitting.md). Every other strike
+/// must pass; when one of these comes inside, the test says so and it leaves this list.
+const KNOWN_OUTSIDE: [(&str, &str); 0] = [];
 use trundle_test_support::strike_corpus::{measure, stem, table, CORPUS};
 
 #[test]

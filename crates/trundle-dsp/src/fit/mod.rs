@@ -35,6 +35,7 @@ pub mod glide;
 pub mod joint;
 #[cfg(feature = "presets")]
 pub mod json;
+pub mod late;
 pub mod refine;
 pub mod roll;
 pub mod subspace;
@@ -137,6 +138,10 @@ pub const MODE_FLOOR_DB: f64 = -90.0;
 /// A fit with gliding modes is kept when its residual is at most this much (dB) above the
 /// fixed modes' ([`glide`]).
 pub const GLIDE_RESIDUAL_DB: f64 = 1.0;
+/// A level that stays within 6 dB of the recording's last tenth for longer than the decay
+/// before it, yet falls by this much (dB) along it, is long modes ringing on, not a noise
+/// floor ([`check_strike`]; stationary noise in 10 ms frames wanders by about ±1 dB).
+pub const TAIL_FALL_DB: f64 = 6.0;
 /// Most decimated samples per band (the span analysed by ESPRIT).
 pub const BAND_SAMPLES: usize = 640;
 
@@ -158,9 +163,28 @@ fn frame_db(x: &[f64], fs: f64) -> (Vec<f64>, usize) {
     (out, hop)
 }
 
+/// Fall (dB) of a least-squares line through frame levels `db` (hop `hop` samples).
+fn tail_fall_db(db: &[f64], hop: usize, fs: f64) -> f64 {
+    let n = db.len() as f64;
+    if db.len() < 4 {
+        return 0.0;
+    }
+    let dt = hop as f64 / fs;
+    let tm = 0.5 * (n - 1.0) * dt;
+    let lm = db.iter().sum::<f64>() / n;
+    let (mut sxy, mut sxx) = (0.0, 0.0);
+    for (i, &l) in db.iter().enumerate() {
+        let t = i as f64 * dt - tm;
+        sxy += t * (l - lm);
+        sxx += t * t;
+    }
+    -sxy / sxx * (n - 1.0) * dt
+}
+
 /// The checks of a strike; returns (start of the free decay, end) in samples: the start is
 /// the strike's peak within 20 ms of its onset (the contact is over), the end where the
-/// decay reaches the noise floor. A quieter pre-sound before the strike (a frame 20 ms or
+/// decay reaches the noise floor (or the recording's end when that "floor" is long modes
+/// still ringing: [`TAIL_FALL_DB`]). A quieter pre-sound before the strike (a frame 20 ms or
 /// more after the first sound that jumps [`ONSET_RISE_DB`] over all before it, up to the
 /// loudest frame: a music box's mechanism, a previous ring) is left out: the onset is
 /// that jump.
@@ -252,7 +276,17 @@ pub fn check_strike(x: &[f64], sample_rate_hz: f64) -> Result<(usize, usize), Fi
     // End: where the level reaches that floor (noise when the strike has died out, the
     // last of its decay when the file cuts it) + 6 dB, or 90 dB under the maximum.
     let stop = (floor + 6.0).max(lmax - 90.0);
-    let end_frame = (fmax..db.len()).find(|&i| db[i] < stop).unwrap_or(db.len());
+    let mut end_frame = (fmax..db.len()).find(|&i| db[i] < stop).unwrap_or(db.len());
+    // A "floor" that lasts longer than the decay before it and still falls (by
+    // [`TAIL_FALL_DB`] or more along a line through its levels: noise stays level) is not
+    // the end of the strike but its long, weak modes ringing on (the low tom's 109 and
+    // 147 Hz modes, T60 5–10 s, ring 1.4 s after its loud decay has reached them at 0.6 s):
+    // the strike is then fitted to the end of the recording.
+    if db.len() - end_frame > end_frame - fmax
+        && tail_fall_db(&db[end_frame..], hop, fs) >= TAIL_FALL_DB
+    {
+        end_frame = db.len();
+    }
     let end = (onset + end_frame * hop + hop).min(x.len());
     let span = (end - onset) as f64 / fs;
     if span < MIN_SECONDS {
@@ -388,6 +422,21 @@ pub fn fit_strike_with(
             let r = self::residual_db(sig, &y);
             if r < residual_db && j.iter().all(|m| m.amplitude <= peak.max(1e-9) * 100.0) {
                 modes = j;
+                model = y;
+                residual_db = r;
+            }
+        }
+    }
+    // A long mode ESPRIT's window could not measure and the refinement did not take, looked
+    // at again after that window to the recording's end (`late`): split into its early and
+    // late rings when they differ, kept when the pair explains more of the recording.
+    if options.refine_decays {
+        let layout = bands::layout(MIN_MODE_HZ, hi);
+        if let Some(s) = late::split(&x[onset..], sig.len(), fs, &layout, &modes) {
+            let y = resynthesize(&s, fs, sig.len());
+            let r = self::residual_db(sig, &y);
+            if r < residual_db + GLIDE_RESIDUAL_DB {
+                modes = s;
                 model = y;
                 residual_db = r;
             }
