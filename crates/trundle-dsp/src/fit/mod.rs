@@ -2,12 +2,16 @@
 //!
 //! ```text
 //! strike x[n] ─► checks (length, silence, clipping, decay, a second onset) ─► onset … end
+//!   (end: where the level meets the floor, or the recording's end when that "floor" is long
+//!   modes still falling)
 //!   ─► per band [lo, hi): heterodyne by f_c, Kaiser low-pass, decimate by D ≈ f_s/4B
 //!      ─► ESPRIT (Hankel, eigenvectors of YYᴴ, shift invariance; order from the
 //!         eigenvalue floor) on the first 640 samples ─► poles
 //!      ─► the poles refined jointly over the whole ring (variable projection,
 //!         Levenberg–Marquardt; each decay's standard uncertainty) ─► least-squares
 //!         complex amplitudes ─► modes in [lo, hi)
+//!   ─► a long mode not refined: its late ring fitted alone to the recording's end; split
+//!      into an early and a late ring when they explain more (late.rs)
 //!   ─► all amplitudes re-solved jointly, full band, over the whole decay (poles fixed)
 //!   ─► modes (f, τ ± sd, amplitude, phase) ─► resynthesis ─► residual
 //!   ─► the residual's third-octave envelope (level, decay): the full-band part
@@ -20,7 +24,8 @@
 //! [`bands`] (band splitting), [`subspace`] (ESPRIT and the order rule), [`refine`] (the
 //! decays over the whole ring, without the short window's bias, and their uncertainty),
 //! [`joint`] (every amplitude solved at once on the recording, so close modes' skirts
-//! cancel) and [`explained`] (how much of the recording the fit explains, band by band).
+//! cancel), [`late`] (a merged long mode split into its early and late rings) and
+//! [`explained`] (how much of the recording the fit explains, band by band).
 //!
 //! A mode k is the real damped sinusoid aₖ·e^{−t/τₖ}·cos(2πfₖt + φₖ), t from the start of
 //! the free decay (the strike's peak: the attack before it is the contact force, which
