@@ -440,7 +440,7 @@ pub fn fit_strike_with(
         if let Some(s) = late::split(&x[onset..], sig.len(), fs, &layout, &modes) {
             let y = resynthesize(&s, fs, sig.len());
             let r = self::residual_db(sig, &y);
-            if r < residual_db + GLIDE_RESIDUAL_DB {
+            if r < residual_db {
                 modes = s;
                 model = y;
                 residual_db = r;
