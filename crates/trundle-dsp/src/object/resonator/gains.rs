@@ -4,6 +4,7 @@
 //! ([`Object::normalize_and_cull`]). Run when the ball, the listening point or the width move.
 
 use super::*;
+use crate::object::shape::ShapeMode;
 
 impl Object {
     /// Set bank slot `k`'s complex input gain g + i·h and side weight, wherever it runs.
@@ -121,6 +122,9 @@ impl Object {
             energy += p;
             loudest = loudest.max(p);
         }
+        if shape == Shape::Shell {
+            share_doublet_sides(table, &mut self.info[..n]);
+        }
         for g in self.high[..self.n_high].iter_mut() {
             let scale = g.count as f64 / g.n_samples as f64;
             let (mut em, mut es, mut lr) = (0.0, 0.0, 0.0);
@@ -219,5 +223,35 @@ impl Object {
         self.bank.set_active(last_active.div_ceil(LANES) * LANES);
         self.bank.set_tail(HIGH_BASE, tail);
         self.gains_dirty = false;
+    }
+}
+
+/// One side weight for both members of each of a shell's doublets (docs/MODEL.md §6,
+/// "Stereo from mode shapes"): their energy-weighted mean, d = Σ xⱼ²τⱼ·dⱼ / Σ xⱼ²τⱼ over the
+/// pair (xⱼ the pre-normalization mid gains). The members lie 1.5 % apart, so they ring
+/// together for a beat period and sound as one mode whose gain at each pickup is the sum
+/// of theirs; with a side weight each, that sum could take opposite signs in L and R (the
+/// ball exciting the members with opposite signs) and cancel in the mono fold-down
+/// (`coin-in-glass-bowl`'s mono sum lay 6.2 dB under its channels' mean power in one band). With one weight the pair's side is d
+/// times its mid, |d| ≤ w: a hard-panned source at worst, never a cancellation. The mids
+/// (the mono sound, what a fit hears) are untouched, and the weighted mean keeps the pair's
+/// L − R energy difference: the image stays where the pickups put it. Members are adjacent
+/// in the table below the ring order where the doublets interleave.
+fn share_doublet_sides(table: &[ShapeMode], info: &mut [ModeInfo]) {
+    let mut k = 0;
+    while k + 1 < info.len().min(table.len()) {
+        let (a, b) = (&table[k], &table[k + 1]);
+        if a.m != b.m || a.n == b.n {
+            k += 1;
+            continue;
+        }
+        let wa = info[k].gain * info[k].gain * info[k].decay_s;
+        let wb = info[k + 1].gain * info[k + 1].gain * info[k + 1].decay_s;
+        if wa + wb > 0.0 {
+            let d = (wa * info[k].side + wb * info[k + 1].side) / (wa + wb);
+            info[k].side = d;
+            info[k + 1].side = d;
+        }
+        k += 2;
     }
 }
