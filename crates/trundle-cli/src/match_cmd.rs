@@ -6,12 +6,14 @@
 //! RECORDING ─► excerpt (the middle S s) ─► profile (compare's four measures, once)
 //!   ─► cue: waveform kurtosis → rub / roll / scratch (the search's start on the action disk)
 //!   ─► first estimates of the textures off the profile (match_start: strokes, bumps, …)
+//!   ─► the noise bar: noise shaped to its spectrum, compared (match_search::noise_bar)
 //!   ─► tonal cue (match_pitch: power on one pitch's harmonics, a steady pitch) ─► friction
 //!      restarts, each object sized so the mode its contact locks onto sits on the pitch
 //!   [--strike ─► fit-object ─► the candidates play the fitted object]
 //!   ─► CMA-ES over match_space::SPACE, restarts over (ball material, shape);
 //!      each candidate rendered at K seeds, heard through its body EQ, judged (match_search)
-//!   ─► the best, through its curve, at 3 OTHER seeds: each measure's value and verdict
+//!   ─► the best, through its curve, at 3 OTHER seeds: each measure's value and verdict,
+//!      closer than the noise or not
 //!   ─► preset (params, seed, body EQ curve, "match" record) ─► exit 0 (a match) or 3
 //! ```
 //!
@@ -24,8 +26,9 @@ use crate::error::{failure, input, quote, CliError};
 use crate::fit_cmd::{fit_file, write_text};
 use crate::match_pitch::{friction_starts, harmonic_presearch, tone, tune_size};
 use crate::match_search::{
-    judge, search, Judged, Plan, Target, BRIGHTNESS_WEIGHT, MIN_BRIGHTNESS, OWN_SPECTRUM_TARGET_DB,
-    OWN_SPECTRUM_WEIGHT, TONAL_OWN_SPECTRUM_TARGET_DB, TONAL_OWN_SPECTRUM_WEIGHT,
+    judge, noise_bar, search, Judged, Plan, Target, BRIGHTNESS_WEIGHT, MIN_BRIGHTNESS,
+    OWN_SPECTRUM_TARGET_DB, OWN_SPECTRUM_WEIGHT, TONAL_OWN_SPECTRUM_TARGET_DB,
+    TONAL_OWN_SPECTRUM_WEIGHT,
 };
 use crate::match_space::{action_cue, action_name, dims, restarts_for, with_restart, RESTARTS};
 use crate::match_start::{estimate, starts};
@@ -201,6 +204,8 @@ pub fn run(args: &MatchArgs) -> Result<(String, u8), CliError> {
     };
     let tone = tone(&excerpt, fs);
     let tonal = tone.filter(|t| t.is_tonal());
+    // The baseline the report holds the match to: noise with the recording's spectrum.
+    let noise = noise_bar(&reference, &excerpt, fs);
     let target = Target {
         tonal: tonal.is_some(),
         reference,
@@ -310,6 +315,14 @@ pub fn run(args: &MatchArgs) -> Result<(String, u8), CliError> {
         "½(mean + max) of compare's loss over the validation seeds, + {BRIGHTNESS_WEIGHT} per unit of brightness ratio under {MIN_BRIGHTNESS}, + {own_weight} per dB of the model's own spectrum beyond {own_goal_db} dB{}",
         if target.tonal { " (a tonal recording)" } else { "" }
     );
+    // Closer than spectrum-shaped noise (issue #25): the worst validation seed under the
+    // noise's modulation and texture distances.
+    let worst =
+        |f: fn(&Comparison) -> f64| validation.comparisons.iter().map(f).fold(0.0, f64::max);
+    let (worst_modulation, worst_texture) =
+        (worst(|c| c.modulation.value), worst(|c| c.texture.value));
+    let beats_noise =
+        noise.map(|n| worst_modulation < n.modulation_db && worst_texture < n.texture);
     let record = json!({
         "recording": name,
         "seconds": target.samples as f64 / fs,
@@ -331,6 +344,11 @@ pub fn run(args: &MatchArgs) -> Result<(String, u8), CliError> {
         "friction": best.params.get(ParamId::Friction),
         "brightness_at_1_5x_velocity": brightness,
         "own_spectrum_db": validation.own_spectrum_db,
+        "shaped_noise": noise.map(|n| json!({
+            "modulation_db": n.modulation_db,
+            "texture": n.texture,
+            "closer": beats_noise,
+        })),
         "candidates": found.evaluations,
         "elapsed_s": seconds,
         "body_eq": { "bands_hz": best.curve.bands_hz, "gain_db": best.curve.gain_db },
@@ -408,6 +426,18 @@ pub fn run(args: &MatchArgs) -> Result<(String, u8), CliError> {
         brightness.unwrap_or(f64::NAN),
         validation.own_spectrum_db
     );
+    if let Some(n) = noise {
+        s += &format!(
+            "against spectrum-shaped noise: modulation {worst_modulation:.2} dB (noise {:.2}), texture {worst_texture:.2} (noise {:.2}) at the worst seed: {}\n",
+            n.modulation_db,
+            n.texture,
+            if beats_noise == Some(true) {
+                "closer on both"
+            } else {
+                "NOT closer on both (the texture is no nearer than the spectrum's)"
+            }
+        );
+    }
     if matched {
         s += "a match: every measure within its limit at every validation seed\n";
     } else {

@@ -17,6 +17,7 @@ use crate::match_space::{self, apply_eq, Dim, EqCurve, MAX_EQ_DB};
 use indicatif::ProgressBar;
 use rayon::prelude::*;
 use std::sync::Arc;
+use trundle_dsp::analysis::compare::noise::shaped_noise;
 use trundle_dsp::analysis::compare::spectrum::{
     long_term_spectrum, spectrum_distance_db, LongTermSpectrum,
 };
@@ -39,6 +40,39 @@ pub struct Target {
     /// spectrum is weighed by [`TONAL_OWN_SPECTRUM_WEIGHT`] beyond
     /// [`TONAL_OWN_SPECTRUM_TARGET_DB`] instead of the noisy recording's terms.
     pub tonal: bool,
+}
+
+/// What spectrum-shaped noise scores against the recording: the baseline a match must beat
+/// on modulation and texture (issue #25: a candidate no closer than noise has copied the
+/// recording's colour, not its texture).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NoiseBar {
+    /// The noise's modulation distance (dB), the lowest over [`NOISE_SEEDS`].
+    pub modulation_db: f64,
+    /// The noise's texture distance, the lowest over [`NOISE_SEEDS`].
+    pub texture: f64,
+}
+
+/// Seeds of the shaped noise [`noise_bar`] measures (none of the corpus test's).
+pub const NOISE_SEEDS: [u64; 2] = [101, 202];
+
+/// The noise baseline of `excerpt` (the recording matched, its profile `reference`):
+/// noise shaped to its long-term spectrum ([`shaped_noise`]) at each of [`NOISE_SEEDS`],
+/// profiled and compared as a candidate is. `None` when no noise profile can be made.
+pub fn noise_bar(reference: &Profile, excerpt: &[f64], sample_rate_hz: f64) -> Option<NoiseBar> {
+    let mut bar: Option<NoiseBar> = None;
+    for seed in NOISE_SEEDS {
+        let noise = shaped_noise(excerpt, excerpt.len(), seed);
+        let p = profile(&noise, sample_rate_hz, reference.top_hz, "shaped noise").ok()?;
+        let c = compare_profiles(reference.clone(), p);
+        let b = bar.get_or_insert(NoiseBar {
+            modulation_db: f64::INFINITY,
+            texture: f64::INFINITY,
+        });
+        b.modulation_db = b.modulation_db.min(c.modulation.value);
+        b.texture = b.texture.min(c.texture.value);
+    }
+    bar
 }
 
 /// A candidate judged at some seeds.

@@ -18,6 +18,7 @@ mod compress;
 pub mod envelopes;
 pub mod impulsiveness;
 pub mod modulation;
+pub mod noise;
 pub mod spectrum;
 pub mod statistics;
 
