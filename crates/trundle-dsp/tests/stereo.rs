@@ -45,6 +45,23 @@ fn phi(shape: Shape, m: u16, n: u16, point: (f64, f64)) -> f64 {
     }
 }
 
+/// A 48-mode object of `shape` at width 1, heard at `listen`, the ball at `ball`, every
+/// mode kept (no culling) and the controls settled.
+fn object_at(shape: Shape, listen: (f64, f64), ball: (f64, f64)) -> (ObjectControls, Object) {
+    let c = ObjectControls {
+        shape,
+        modes: 48,
+        width: 1.0,
+        listen,
+        ..ObjectControls::default()
+    };
+    let mut obj = Object::new(FS, c);
+    obj.set_quality(Quality::Ultra);
+    obj.set_ball(ball);
+    obj.snap_controls();
+    (c, obj)
+}
+
 /// At width 1, mode k's gain at the left pickup is C_L·aₖ·φₖ(ball)·|φₖ(pickup L)| with one
 /// constant C_L for every mode (aₖ = ratioₖ^tilt, the material's balance), and likewise on
 /// the right: checked for every shape but the shell (below), three ball positions, against
@@ -54,17 +71,7 @@ fn mode_gains_follow_the_mode_shapes_at_the_ball_and_the_pickups() {
     let tables = ShapeTables::new();
     for shape in Shape::ALL.into_iter().filter(|&s| s != Shape::Shell) {
         for ball in [(0.3, 0.2), (-0.7, 0.55), (0.05, -0.9)] {
-            let c = ObjectControls {
-                shape,
-                modes: 48,
-                width: 1.0,
-                listen: (0.1, -0.3),
-                ..ObjectControls::default()
-            };
-            let mut obj = Object::new(FS, c);
-            obj.set_quality(Quality::Ultra); // no culling
-            obj.set_ball(ball);
-            obj.snap_controls();
+            let (c, obj) = object_at(shape, (0.1, -0.3), ball);
             let tilt = Material::from_disk(c.material_x, c.material_y).tilt;
             let [pl, pr] = pickups(c.listen);
             let (mut cl, mut cr) = (None::<f64>, None::<f64>);
@@ -108,17 +115,7 @@ fn a_shell_doublet_shares_one_side_weight() {
     let shape = Shape::Shell;
     for listen in [(0.1, -0.3), (-0.6, 0.4)] {
         for ball in [(0.3, 0.2), (-0.7, 0.55), (0.05, -0.9)] {
-            let c = ObjectControls {
-                shape,
-                modes: 48,
-                width: 1.0,
-                listen,
-                ..ObjectControls::default()
-            };
-            let mut obj = Object::new(FS, c);
-            obj.set_quality(Quality::Ultra); // no culling
-            obj.set_ball(ball);
-            obj.snap_controls();
+            let (c, obj) = object_at(shape, listen, ball);
             let tilt = Material::from_disk(c.material_x, c.material_y).tilt;
             let [pl, pr] = pickups(c.listen);
             let modes = obj.modes();
