@@ -26,9 +26,8 @@ use crate::error::{failure, input, quote, CliError};
 use crate::fit_cmd::{fit_file, write_text};
 use crate::match_pitch::{friction_starts, harmonic_presearch, tone, tune_size};
 use crate::match_search::{
-    judge, noise_bar, search, Judged, Plan, Target, BRIGHTNESS_WEIGHT, MIN_BRIGHTNESS,
-    OWN_SPECTRUM_TARGET_DB, OWN_SPECTRUM_WEIGHT, TONAL_OWN_SPECTRUM_TARGET_DB,
-    TONAL_OWN_SPECTRUM_WEIGHT,
+    judge, noise_bar, own_spectrum_goal, search, Judged, Plan, Target, BRIGHTNESS_WEIGHT,
+    MIN_BRIGHTNESS,
 };
 use crate::match_space::{action_cue, action_name, dims, restarts_for, with_restart, RESTARTS};
 use crate::match_start::{estimate, starts};
@@ -306,11 +305,7 @@ pub fn run(args: &MatchArgs) -> Result<(String, u8), CliError> {
         .zip(&validation.comparisons)
         .map(|(&s, c)| comparison_json(s, c))
         .collect();
-    let (own_goal_db, own_weight) = if target.tonal {
-        (TONAL_OWN_SPECTRUM_TARGET_DB, TONAL_OWN_SPECTRUM_WEIGHT)
-    } else {
-        (OWN_SPECTRUM_TARGET_DB, OWN_SPECTRUM_WEIGHT)
-    };
+    let (own_goal_db, own_weight) = own_spectrum_goal(&target);
     let loss_note = format!(
         "½(mean + max) of compare's loss over the validation seeds, + {BRIGHTNESS_WEIGHT} per unit of brightness ratio under {MIN_BRIGHTNESS}, + {own_weight} per dB of the model's own spectrum beyond {own_goal_db} dB{}",
         if target.tonal { " (a tonal recording)" } else { "" }

@@ -22,6 +22,7 @@ use realfft::RealFftPlanner;
 use trundle_dsp::analysis::compare::spectrum::{
     long_term_spectrum, spectrum_distance_db, LongTermSpectrum,
 };
+use trundle_dsp::analysis::stft::hann;
 use trundle_dsp::params::spec_by_key;
 use trundle_dsp::scene::preset::Preset;
 use trundle_dsp::{ParamId, Params, Voice};
@@ -58,9 +59,7 @@ impl Tone {
 /// Frames of `x` (Hann-windowed power spectra, half overlap), `n` samples each.
 fn frames(x: &[f64], n: usize) -> Vec<Vec<f64>> {
     let fft = RealFftPlanner::<f64>::new().plan_fft_forward(n);
-    let w: Vec<f64> = (0..n)
-        .map(|i| 0.5 - 0.5 * (std::f64::consts::TAU * i as f64 / n as f64).cos())
-        .collect();
+    let w = hann(n);
     let mut out = Vec::new();
     let mut a = 0;
     while a + n <= x.len() {

@@ -60,19 +60,18 @@ pub const NOISE_SEEDS: [u64; 2] = [101, 202];
 /// noise shaped to its long-term spectrum ([`shaped_noise`]) at each of [`NOISE_SEEDS`],
 /// profiled and compared as a candidate is. `None` when no noise profile can be made.
 pub fn noise_bar(reference: &Profile, excerpt: &[f64], sample_rate_hz: f64) -> Option<NoiseBar> {
-    let mut bar: Option<NoiseBar> = None;
+    let mut bar = NoiseBar {
+        modulation_db: f64::INFINITY,
+        texture: f64::INFINITY,
+    };
     for seed in NOISE_SEEDS {
         let noise = shaped_noise(excerpt, excerpt.len(), seed);
         let p = profile(&noise, sample_rate_hz, reference.top_hz, "shaped noise").ok()?;
         let c = compare_profiles(reference.clone(), p);
-        let b = bar.get_or_insert(NoiseBar {
-            modulation_db: f64::INFINITY,
-            texture: f64::INFINITY,
-        });
-        b.modulation_db = b.modulation_db.min(c.modulation.value);
-        b.texture = b.texture.min(c.texture.value);
+        bar.modulation_db = bar.modulation_db.min(c.modulation.value);
+        bar.texture = bar.texture.min(c.texture.value);
     }
-    bar
+    Some(bar)
 }
 
 /// A candidate judged at some seeds.
@@ -127,14 +126,20 @@ pub const TONAL_OWN_SPECTRUM_TARGET_DB: f64 = 5.0;
 /// beyond 7 dB the search kept the restart's balance, 11.6 dB off.
 pub const TONAL_OWN_SPECTRUM_WEIGHT: f64 = 0.25;
 
-/// The own spectrum's share of a candidate's loss: its weight per dB beyond its target,
-/// the tonal recording's or the noisy one's.
-pub fn own_spectrum_term(target: &Target, own_spectrum_db: f64) -> f64 {
-    let (goal_db, weight) = if target.tonal {
+/// The own spectrum's target (dB) and weight (per dB beyond it) for `target`: the tonal
+/// recording's or the noisy one's.
+pub fn own_spectrum_goal(target: &Target) -> (f64, f64) {
+    if target.tonal {
         (TONAL_OWN_SPECTRUM_TARGET_DB, TONAL_OWN_SPECTRUM_WEIGHT)
     } else {
         (OWN_SPECTRUM_TARGET_DB, OWN_SPECTRUM_WEIGHT)
-    };
+    }
+}
+
+/// The own spectrum's share of a candidate's loss: its weight per dB beyond its target
+/// ([`own_spectrum_goal`]).
+pub fn own_spectrum_term(target: &Target, own_spectrum_db: f64) -> f64 {
+    let (goal_db, weight) = own_spectrum_goal(target);
     weight * (own_spectrum_db - goal_db).max(0.0)
 }
 

@@ -40,6 +40,7 @@ use crate::error::{failure, input, quote, CliError};
 use realfft::RealFftPlanner;
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
+use trundle_dsp::analysis::stft::hann;
 use trundle_io::recording::read_recording;
 
 /// Welch frame length (samples).
@@ -133,9 +134,7 @@ impl Psd {
     /// Welch estimate of `x` at `sample_rate_hz` (Hann [`FRAME`], hop [`HOP`]).
     pub fn welch(x: &[f64], sample_rate_hz: f64) -> Psd {
         let n = FRAME;
-        let window: Vec<f64> = (0..n)
-            .map(|i| 0.5 - 0.5 * (std::f64::consts::TAU * i as f64 / n as f64).cos())
-            .collect();
+        let window = hann(n);
         let u: f64 = window.iter().map(|w| w * w).sum();
         let mut planner = RealFftPlanner::<f64>::new();
         let fft = planner.plan_fft_forward(n);

@@ -24,10 +24,10 @@
 
 use crate::error::{failure, input, CliError};
 use crate::stats::{impacts_of, Series, DEFAULT_THRESHOLD};
-use realfft::RealFftPlanner;
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+use trundle_dsp::analysis::stft::welch_power;
 use trundle_dsp::source::pulse::PulseEval;
 use trundle_dsp::{ParamId, Params, Voice};
 
@@ -143,23 +143,8 @@ fn render(v: &mut Voice, frames: usize) -> Vec<f32> {
 /// 50 Hz–20 kHz; returns the bins of that band.
 fn spectrum(x: &[f32]) -> Vec<f64> {
     let n = 4096;
-    let mut planner = RealFftPlanner::<f64>::new();
-    let fft = planner.plan_fft_forward(n);
-    let mut buf = vec![0.0f64; n];
-    let mut spec = fft.make_output_vec();
-    let mut psd = vec![0.0f64; n / 2 + 1];
-    let mut start = 0;
-    while start + n <= x.len() {
-        for (i, b) in buf.iter_mut().enumerate() {
-            let w = 0.5 - 0.5 * (std::f64::consts::TAU * i as f64 / n as f64).cos();
-            *b = f64::from(x[start + i]) * w;
-        }
-        fft.process(&mut buf, &mut spec).expect("sizes match");
-        for (p, c) in psd.iter_mut().zip(&spec) {
-            *p += c.norm_sqr();
-        }
-        start += n / 2;
-    }
+    let x: Vec<f64> = x.iter().map(|&v| f64::from(v)).collect();
+    let psd = welch_power(&x, n);
     let df = SAMPLE_RATE_HZ / n as f64;
     let (lo, hi) = ((50.0 / df).ceil() as usize, (20_000.0 / df) as usize);
     let band = &psd[lo..=hi];

@@ -222,24 +222,7 @@ fn children_cpu_s() -> Option<f64> {
 /// frames of 4096 samples, half overlapping), the textbook definition.
 fn centroid_hz(x: &[f64], fs: f64) -> f64 {
     let n = 4096usize.min(x.len().next_power_of_two() / 2).max(64);
-    let fft = realfft::RealFftPlanner::<f64>::new().plan_fft_forward(n);
-    let win: Vec<f64> = (0..n)
-        .map(|i| 0.5 - 0.5 * (core::f64::consts::TAU * i as f64 / n as f64).cos())
-        .collect();
-    let mut buf = fft.make_input_vec();
-    let mut spec = fft.make_output_vec();
-    let mut power = vec![0.0; spec.len()];
-    let mut a = 0;
-    while a + n <= x.len() {
-        for (i, b) in buf.iter_mut().enumerate() {
-            *b = x[a + i] * win[i];
-        }
-        fft.process(&mut buf, &mut spec).expect("FFT sizes match");
-        for (p, c) in power.iter_mut().zip(&spec) {
-            *p += c.norm_sqr();
-        }
-        a += n / 2;
-    }
+    let power = trundle_dsp::analysis::stft::welch_power(x, n);
     let (mut num, mut den) = (0.0, 0.0);
     for (k, p) in power.iter().enumerate() {
         num += k as f64 * fs / n as f64 * p;

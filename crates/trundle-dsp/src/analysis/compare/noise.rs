@@ -1,9 +1,10 @@
 //! The baseline of issue #25's judge: Gaussian noise shaped to a recording's long-term power
 //! spectrum — the same colour, none of its modulation or texture. A candidate that is not
 //! closer to the recording than this on modulation and texture has not heard the recording's
-//! texture, only its spectrum (`trundle match` weighs it, `tests/match_corpus.rs` holds
-//! matches to it).
+//! texture, only its spectrum (`trundle match` reports against it, `tests/match_corpus.rs`
+//! holds matches to it).
 
+use crate::analysis::stft::welch_power;
 use rand::rngs::SmallRng;
 use rand::SeedableRng;
 use rand_distr::{Distribution, StandardNormal};
@@ -22,25 +23,8 @@ pub fn shaped_noise(x: &[f64], len: usize, seed: u64) -> Vec<f64> {
     let frame = SHAPE_FRAME
         .min(x.len().max(2).next_power_of_two() / 2)
         .max(2);
+    let psd = welch_power(x, frame);
     let mut planner = RealFftPlanner::<f64>::new();
-    let fft = planner.plan_fft_forward(frame);
-    let win: Vec<f64> = (0..frame)
-        .map(|i| 0.5 - 0.5 * (core::f64::consts::TAU * i as f64 / frame as f64).cos())
-        .collect();
-    let mut buf = fft.make_input_vec();
-    let mut spec = fft.make_output_vec();
-    let mut psd = vec![0.0; spec.len()];
-    let mut start = 0;
-    while start + frame <= x.len() {
-        for (i, b) in buf.iter_mut().enumerate() {
-            *b = x[start + i] * win[i];
-        }
-        fft.process(&mut buf, &mut spec).expect("FFT sizes match");
-        for (p, c) in psd.iter_mut().zip(&spec) {
-            *p += c.norm_sqr();
-        }
-        start += frame / 2;
-    }
     let n = len.max(2).next_power_of_two();
     let fwd = planner.plan_fft_forward(n);
     let inv = planner.plan_fft_inverse(n);

@@ -28,9 +28,7 @@ pub fn long_term_spectrum(x: &[f64], sample_rate_hz: f64, top_hz: f64) -> LongTe
         .min(x.len().max(64).next_power_of_two());
     let hop = len / 2;
     let fft = RealFftPlanner::<f64>::new().plan_fft_forward(len);
-    let win: Vec<f64> = (0..len)
-        .map(|i| 0.5 - 0.5 * (core::f64::consts::TAU * i as f64 / len as f64).cos())
-        .collect();
+    let win = crate::analysis::stft::hann(len);
     let mut buf = fft.make_input_vec();
     let mut spec = fft.make_output_vec();
     let mut power = vec![0.0; spec.len()];
