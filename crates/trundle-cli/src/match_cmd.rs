@@ -26,8 +26,8 @@ use crate::error::{failure, input, quote, CliError};
 use crate::fit_cmd::{fit_file, write_text};
 use crate::match_pitch::{friction_starts, harmonic_presearch, tone, tune_size};
 use crate::match_search::{
-    judge, noise_bar, own_spectrum_goal, search, Judged, Plan, Target, BRIGHTNESS_WEIGHT,
-    MIN_BRIGHTNESS,
+    judge, noise_bar, own_spectrum_goal, search, Judged, Plan, Target, BRIGHTNESS_GOAL,
+    BRIGHTNESS_WEIGHT, MIN_BRIGHTNESS,
 };
 use crate::match_space::{action_cue, action_name, dims, restarts_for, with_restart, RESTARTS};
 use crate::match_start::{estimate, starts};
@@ -307,7 +307,7 @@ pub fn run(args: &MatchArgs) -> Result<(String, u8), CliError> {
         .collect();
     let (own_goal_db, own_weight) = own_spectrum_goal(&target);
     let loss_note = format!(
-        "½(mean + max) of compare's loss over the validation seeds, + {BRIGHTNESS_WEIGHT} per unit of brightness ratio under {MIN_BRIGHTNESS}, + {own_weight} per dB of the model's own spectrum beyond {own_goal_db} dB{}",
+        "½(mean + max) of compare's loss over the validation seeds, + {BRIGHTNESS_WEIGHT} per unit of brightness ratio (the mean over the seeds) under {BRIGHTNESS_GOAL}, + {own_weight} per dB of the model's own spectrum beyond {own_goal_db} dB{}",
         if target.tonal { " (a tonal recording)" } else { "" }
     );
     // Closer than spectrum-shaped noise (issue #25): the worst validation seed under the
@@ -417,8 +417,13 @@ pub fn run(args: &MatchArgs) -> Result<(String, u8), CliError> {
         );
     }
     s += &format!(
-        "1.5× velocity: spectral centroid ×{:.2}; the model's own spectrum (body_eq 0): {:.1} dB from the recording's\n",
+        "1.5× velocity: spectral centroid ×{:.2}{}; the model's own spectrum (body_eq 0): {:.1} dB from the recording's\n",
         brightness.unwrap_or(f64::NAN),
+        if brightness.is_some_and(|b| b < MIN_BRIGHTNESS) {
+            format!(" (under ×{MIN_BRIGHTNESS}: not brighter when faster)")
+        } else {
+            String::new()
+        },
         validation.own_spectrum_db
     );
     if let Some(n) = noise {

@@ -89,7 +89,9 @@ pub struct Judged {
     /// ([`own_spectrum_term`]).
     pub loss: f64,
     /// Spectral centroid at 1.5× the velocity over the centroid as is, both through the
-    /// curve, at the first seed; `None` when not checked ([`checks_brightness`]: a friction
+    /// curve, the mean over the seeds (one seed's ratio swings with its few loudest events:
+    /// a scratched sawmill matched at ×1.20 on one seed read ×1.14, ×1.10 and ×0.81 at three
+    /// others); `None` when not checked ([`checks_brightness`]: a friction
     /// candidate in the search).
     pub brightness: Option<f64>,
     /// The model's own spectrum (no body EQ) from the recording's: dB RMS, the mean over
@@ -100,20 +102,28 @@ pub struct Judged {
 /// A match must be this much brighter (spectral centroid ratio) at 1.5× its velocity: the
 /// held-out check of issue #25 wants ≥ 10 % (a faster ball sounds brighter).
 pub const MIN_BRIGHTNESS: f64 = 1.1;
-/// Loss added per unit of brightness ratio short of [`MIN_BRIGHTNESS`] (a ratio of 1.0
-/// costs 0.5, half of the loss's whole range inside the limits).
+/// The brightness ratio the search's loss asks for: [`MIN_BRIGHTNESS`] with a margin for
+/// the seeds it never heard (measured on the texture corpus, with the own spectrum's term
+/// below: at 1.1 a match's ratio at three unseen seeds fell to ×1.02–1.08 on one or two of
+/// 12 clips, at 1.2 none fell under ×1.11).
+pub const BRIGHTNESS_GOAL: f64 = 1.2;
+/// Loss added per unit of brightness ratio short of [`BRIGHTNESS_GOAL`] (a ratio of 1.1
+/// short of a goal of 1.2 costs 0.5, half of the loss's whole range inside the limits).
 pub const BRIGHTNESS_WEIGHT: f64 = 5.0;
 
 /// The model's own spectrum (the preset at `body_eq` 0) should stay this close to the
-/// recording's (dB RMS): the held-out check of issue #25 wants 8 dB; 7 leaves a margin for
+/// recording's (dB RMS): the held-out check of issue #25 wants 8 dB; 6.5 leaves a margin for
 /// other seeds and lengths.
-pub const OWN_SPECTRUM_TARGET_DB: f64 = 7.0;
+pub const OWN_SPECTRUM_TARGET_DB: f64 = 6.5;
 /// Loss added per dB the model's own spectrum lies beyond [`OWN_SPECTRUM_TARGET_DB`]: the
 /// body EQ colours, the model (micro-roughness, its tone, the object and the ball) must
 /// carry the brightness. Measured on the texture corpus: at 0.1 per dB beyond 6 dB the
 /// own spectrum came within 8 dB on 5 more clips but the four measures got worse on 8 of 12
-/// (the term outweighed them); 0.07 beyond 7 dB costs nothing where the bar is met.
-pub const OWN_SPECTRUM_WEIGHT: f64 = 0.07;
+/// (the term outweighed them, in a search that judged brightness at one seed); 0.07 beyond
+/// 7 dB cost nothing where the bar was met. With brightness judged at every seed and its
+/// goal at 1.2, 0.07 beyond 7 dB kept the own spectrum within 8 dB on 3 clips of 12, 0.15
+/// beyond 6.5 dB on 6 (5 before either change) with no corpus bar lost.
+pub const OWN_SPECTRUM_WEIGHT: f64 = 0.15;
 
 /// The model's own spectrum's target for a tonal recording (dB RMS): issue #27 wants a sung
 /// glass within 6 dB with no EQ (the tone is the model's, not an EQ's); 5 leaves a margin
@@ -260,9 +270,16 @@ pub fn judge(target: &Target, params: &Params, seeds: &[u32], curve: Option<&EqC
         let mut fast = *params;
         fast.set_clamped(ParamId::Velocity, 1.5 * params.get(ParamId::Velocity));
         let (fs, top) = (target.sample_rate_hz, target.reference.top_hz);
-        let quick = render(target, &fast, seeds[0]);
-        centroid_hz(&long_term_spectrum(&quick, fs, top), &curve)
-            / centroid_hz(&long_term_spectrum(&renders[0], fs, top), &curve).max(1e-300)
+        seeds
+            .iter()
+            .zip(&spectra)
+            .map(|(&s, as_is)| {
+                let quick = render(target, &fast, s);
+                centroid_hz(&long_term_spectrum(&quick, fs, top), &curve)
+                    / centroid_hz(as_is, &curve).max(1e-300)
+            })
+            .sum::<f64>()
+            / seeds.len().max(1) as f64
     });
     let mut comparisons = Vec::with_capacity(seeds.len());
     let mut losses = Vec::with_capacity(seeds.len());
@@ -286,7 +303,7 @@ pub fn judge(target: &Target, params: &Params, seeds: &[u32], curve: Option<&EqC
     let max = losses.iter().cloned().fold(0.0, f64::max);
     let loss = if mean.is_finite() {
         0.5 * (mean + max)
-            + BRIGHTNESS_WEIGHT * brightness.map_or(0.0, |b| (MIN_BRIGHTNESS - b).max(0.0))
+            + BRIGHTNESS_WEIGHT * brightness.map_or(0.0, |b| (BRIGHTNESS_GOAL - b).max(0.0))
             + own_spectrum_term(target, own_spectrum_db)
     } else {
         f64::INFINITY

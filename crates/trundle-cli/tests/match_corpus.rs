@@ -59,11 +59,11 @@ const MATCH_SECONDS: f64 = 5.0;
 const KNOWN_OUTSIDE: [(&str, &str); 12] = [
     (
         "tyres on asphalt",
-        "all four at 3 of 3 seeds, but not closer than shaped noise: noise already passes this steady clip's modulation and texture (2.76 dB, 0.77); the match reaches 2.67 dB but texture 0.78",
+        "all four at 3 of 3 seeds, but not closer than shaped noise: noise already passes this steady clip's modulation and texture (2.76 dB, 0.77); the match reaches 2.48 dB but texture 0.79",
     ),
     (
         "metal scraping asphalt",
-        "texture 1.46 (a 1.3 s clip: its units are small), modulation 4.55 dB (shaped noise 4.55), own spectrum 11.4 dB",
+        "texture 1.39 (a 1.3 s clip: its units are small), modulation 4.84 dB (shaped noise 4.55), own spectrum 9.8 dB",
     ),
     (
         "hand saw",
@@ -71,39 +71,39 @@ const KNOWN_OUTSIDE: [(&str, &str); 12] = [
     ),
     (
         "sawmill",
-        "spectrum 3.8 dB (its halves differ by 3.3), modulation 4.8 dB, own spectrum 13.8 dB, x1.02 at 1.5x velocity (a micro-0 start won)",
+        "modulation 4.9 dB, texture 1.4, kurtosis x2.4 (scratch clicks), own spectrum 14.4 dB",
     ),
     (
         "sawmill, steady",
-        "modulation 5.0 dB, texture 2.2, own spectrum 10.9 dB",
+        "modulation 5.6 dB, texture 2.2, kurtosis x2.1 at a seed, own spectrum 12.9 dB",
     ),
     (
         "grinding stone",
-        "texture 1.76, modulation 3.8 dB at a seed, own spectrum 9.0 dB",
+        "texture 1.53, modulation 3.7 dB at a seed",
     ),
     (
         "blade on a grindstone",
-        "modulation 9.0 dB, texture 2.5: a grindstone's turning swell over 9.3 s; own spectrum 11.9 dB",
+        "modulation 9.9 dB, texture 2.6: a grindstone's turning swell over 9.3 s; kurtosis x5.9 at a seed; own spectrum 10.9 dB",
     ),
     (
         "cart on a dirt track",
-        "the knocks of the whole 4 s clip: kurtosis x4.0, modulation 5.4 dB, texture 2.0",
+        "modulation 6.0 dB, texture 2.0: the slow events of the whole 4 s clip",
     ),
     (
         "traffic",
-        "kurtosis up to x4.9 (knocks at some seeds), modulation 4.8 dB, texture 1.4",
+        "modulation 5.4 dB, texture 1.5, kurtosis up to x2.2 (knocks at some seeds)",
     ),
     (
         "bowed cello",
-        "a pitched rub: spectrum 4.6 dB, modulation 11.5 dB (a plate or shell locked on one mode is not a string; the signal model's roll wins), own spectrum 9.2 dB",
+        "a pitched rub: modulation 12.5 dB (a friction tone is steadier than a bow; the signal model's rub wins), texture 2.0",
     ),
     (
         "bowed viola",
-        "a pitched rub: spectrum 6.2 dB, modulation 7.6 dB, own spectrum 13.7 dB",
+        "a pitched rub: spectrum 7.2 dB, modulation 7.7 dB, own spectrum 12.0 dB",
     ),
     (
         "bowed cello, high",
-        "a pitched rub: spectrum 5.1 dB, modulation 8.6 dB, texture 2.1 (not tonal by the cue: vibrato 1.3 %)",
+        "a pitched rub: spectrum 6.1 dB, modulation 7.8 dB, texture 1.4, own spectrum 9.4 dB (not tonal by the cue: vibrato 1.3 %)",
     ),
 ];
 
@@ -111,7 +111,7 @@ const KNOWN_OUTSIDE: [(&str, &str); 12] = [
 /// all four measures at every seed, closer than shaped noise, own spectrum within 8 dB, 1.5×
 /// brighter. The test fails if a change to `match` loses any of them (the CPU budget is left
 /// out: it depends on the machine).
-const MEASURED: [usize; 4] = [1, 6, 5, 11];
+const MEASURED: [usize; 4] = [1, 6, 6, 12];
 
 /// One clip's verdicts.
 struct Row {
