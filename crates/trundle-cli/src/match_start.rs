@@ -4,7 +4,8 @@
 //!
 //! ```text
 //! profile ─► modulation spectrum: a peak at 0.5–8 Hz all bands share ─► strokes at that rate
-//!         ─► cross-band envelope correlation high, no peak              ─► bumpiness
+//!         ─► 0.5–1 Hz modulation 4 dB or more over the 4 Hz band         ─► slow wander (surges)
+//!         ─► cross-band envelope correlation high, no peak, no surges   ─► bumpiness
 //!         ─► envelope spread (σ/μ) over a steady noise's                ─► wander
 //!         ─► waveform kurtosis over a Gaussian's                        ─► crackle
 //!         ─► always: the contact's high band (micro), so a faster ball is brighter and the
@@ -33,6 +34,15 @@ pub const BUMPY_CORRELATION: f64 = 0.4;
 pub const STEADY_SPREAD: f64 = 0.16;
 /// Waveform kurtosis over which crackle starts (real rubs 3.6–4.7, a stylus 7.6).
 pub const CRACKLY_KURTOSIS: f64 = 5.0;
+/// How far (dB) the slowest modulation (the larger of the 0.5 and 1 Hz bands, mean over the
+/// bands) must stand over the 4 Hz band to read as surges: every band swelling together over
+/// seconds (passing traffic +8.6 dB, a cart on a dirt track +13.2; a steady noise's
+/// envelope falls towards slow rates, and the other ten clips of the texture corpus sit at
+/// −12.9 … +0.4 dB).
+pub const SURGE_EXCESS_DB: f64 = 4.0;
+/// The surges' rate is the fastest modulation band still within this many dB of the slowest's
+/// power.
+pub const SURGE_FALL_DB: f64 = 6.0;
 
 /// What the profile suggests, each as a value of its control.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -41,8 +51,11 @@ pub struct Estimate {
     pub strokes: Option<(f64, f64)>,
     /// Bumpiness, when every band moves together without a stroke peak.
     pub bumpiness: Option<f64>,
-    /// Wander, when the envelopes spread more than a steady roll's.
+    /// Wander, when the envelopes spread more than a steady roll's (or the recording surges).
     pub wander: Option<f64>,
+    /// The wander's rate (Hz), when the recording surges (its slow modulation stands over its
+    /// 4 Hz band).
+    pub wander_rate_hz: Option<f64>,
     /// Crackle, when the waveform is heavy-tailed.
     pub crackle: Option<f64>,
 }
@@ -89,19 +102,46 @@ pub fn estimate(p: &Profile) -> Estimate {
             strokes = Some(((0.3 + over / 12.0).min(1.0), MODULATION_CENTRES_HZ[k]));
         }
     }
+    // Surges: the slowest modulation over the 4 Hz band's; their rate where it has fallen.
+    let slowest = m[..2].iter().flatten().cloned().fold(f64::NAN, f64::max);
+    let at_4_hz = MODULATION_CENTRES_HZ
+        .iter()
+        .position(|&c| c == 4.0)
+        .and_then(|k| m[k]);
+    let surges = match at_4_hz {
+        Some(m4) if slowest - m4 >= SURGE_EXCESS_DB => {
+            let rate_hz = MODULATION_CENTRES_HZ
+                .iter()
+                .zip(&m)
+                .take_while(|(_, v)| v.is_none_or(|v| slowest - v < SURGE_FALL_DB))
+                .last()
+                .map_or(1.0, |(&c, _)| c);
+            // Deeper for a larger excess: by hand, passing traffic (+8.6 dB) came closest at
+            // wander 0.7–1 with a rate of 0.5–1 Hz.
+            Some(((0.4 + (slowest - m4) / 20.0).min(1.0), rate_hz))
+        }
+        _ => None,
+    };
     let correlation = mean(&p.stats.correlation).unwrap_or(0.0);
-    let bumpiness = (strokes.is_none() && correlation > BUMPY_CORRELATION)
+    // Surges move every band together too: the correlation is theirs, not knocks'.
+    let bumpiness = (strokes.is_none() && surges.is_none() && correlation > BUMPY_CORRELATION)
         .then(|| (0.3 + (correlation - BUMPY_CORRELATION)).min(1.0));
     let spread = mean(&p.stats.spread).unwrap_or(0.0);
     // Spread 0.16 → 0.29 from wander 0 to 1 on a roll (docs/MODEL.md).
-    let wander =
+    let spread_wander =
         (spread > STEADY_SPREAD + 0.03).then(|| ((spread - STEADY_SPREAD) / 0.13).clamp(0.2, 1.0));
+    let wander = match (spread_wander, surges) {
+        (Some(a), Some((b, _))) => Some(a.max(b)),
+        (a, b) => a.or(b.map(|s| s.0)),
+    };
+    let wander_rate_hz = surges.map(|s| s.1);
     let crackle = (p.kurtosis > CRACKLY_KURTOSIS)
         .then(|| (0.2 + 0.1 * (p.kurtosis - CRACKLY_KURTOSIS)).min(1.0));
     Estimate {
         strokes,
         bumpiness,
         wander,
+        wander_rate_hz,
         crackle,
     }
 }
@@ -112,6 +152,7 @@ impl Estimate {
         self.strokes.is_none()
             && self.bumpiness.is_none()
             && self.wander.is_none()
+            && self.wander_rate_hz.is_none()
             && self.crackle.is_none()
     }
 
@@ -128,6 +169,9 @@ impl Estimate {
         if let Some(w) = self.wander {
             q.set_clamped(ParamId::Wander, w);
         }
+        if let Some(r) = self.wander_rate_hz {
+            q.set_clamped(ParamId::WanderRateHz, r);
+        }
         if let Some(c) = self.crackle {
             q.set_clamped(ParamId::Crackle, c);
         }
@@ -143,8 +187,10 @@ impl Estimate {
         if let Some(b) = self.bumpiness {
             parts.push(format!("bumpiness {b:.2}"));
         }
-        if let Some(w) = self.wander {
-            parts.push(format!("wander {w:.2}"));
+        match (self.wander, self.wander_rate_hz) {
+            (Some(w), Some(r)) => parts.push(format!("wander {w:.2} up to {r} Hz (surges)")),
+            (Some(w), None) => parts.push(format!("wander {w:.2}")),
+            _ => {}
         }
         if let Some(c) = self.crackle {
             parts.push(format!("crackle {c:.2}"));
@@ -214,5 +260,35 @@ mod tests {
         let e = estimate(&profile(&swelling, fs, 8000.0, "recording").unwrap());
         let (_, rate) = e.strokes.expect("a stroke peak");
         assert_eq!(rate, 2.0, "{e:?}");
+    }
+
+    /// Steady noise does not surge; noise whose level drifts over seconds in every band (a
+    /// sum of slow random sines, 0.2–0.7 Hz, ±60 %) reads as surges: slow wander with a rate
+    /// of at most 1 Hz, and no bumps though every band moves together.
+    #[test]
+    fn surges_are_read_off_the_slow_modulation() {
+        let fs = 16_000.0;
+        let x = noise(6 * 16_000, 5);
+        let steady = estimate(&profile(&x, fs, 8000.0, "recording").unwrap());
+        assert!(steady.wander_rate_hz.is_none(), "{steady:?}");
+        let surging: Vec<f64> = x
+            .iter()
+            .enumerate()
+            .map(|(i, v)| {
+                let t = i as f64 / fs;
+                let tau = core::f64::consts::TAU;
+                let g = 1.0
+                    + 0.35 * (tau * 0.23 * t + 1.0).sin()
+                    + 0.25 * (tau * 0.41 * t + 2.0).sin()
+                    + 0.2 * (tau * 0.67 * t + 0.5).sin();
+                v * g
+            })
+            .collect();
+        let e = estimate(&profile(&surging, fs, 8000.0, "recording").unwrap());
+        let rate = e.wander_rate_hz.expect("surges");
+        assert!(rate <= 1.0, "{e:?}");
+        assert!(e.wander.is_some_and(|w| w >= 0.6), "{e:?}");
+        assert!(e.bumpiness.is_none(), "{e:?}");
+        assert!(e.describe().contains("surges"), "{}", e.describe());
     }
 }

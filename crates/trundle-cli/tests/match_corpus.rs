@@ -87,11 +87,11 @@ const KNOWN_OUTSIDE: [(&str, &str); 12] = [
     ),
     (
         "cart on a dirt track",
-        "modulation 6.0 dB, texture 2.0: the slow events of the whole 4 s clip",
+        "modulation 4.8 dB, texture 1.8: the slow events of the whole 4 s clip; own spectrum 8.0 dB",
     ),
     (
         "traffic",
-        "modulation 5.4 dB, texture 1.5, kurtosis up to x2.2 (knocks at some seeds)",
+        "all four at 1 of 3 seeds: modulation up to 3.2 dB, texture up to 1.14 at the others",
     ),
     (
         "bowed cello",
@@ -111,7 +111,7 @@ const KNOWN_OUTSIDE: [(&str, &str); 12] = [
 /// all four measures at every seed, closer than shaped noise, own spectrum within 8 dB, 1.5×
 /// brighter. The test fails if a change to `match` loses any of them (the CPU budget is left
 /// out: it depends on the machine).
-const MEASURED: [usize; 4] = [1, 6, 6, 12];
+const MEASURED: [usize; 4] = [1, 6, 5, 12];
 
 /// One clip's verdicts.
 struct Row {

@@ -629,7 +629,7 @@ schema! {
         default: 0.0,
         place: at(Panel::Motion, Section::Gesture, "Wander"),
         group: None,
-        doc: "A hand, not a machine: speed and pressure wander at random, 1/f-like (octave-spaced random walks 0.125-8 Hz); at 1 the speed swings about x1.6 up and x1/1.6 down (one standard deviation), the pressure x1.4; 0 = a steady hand",
+        doc: "A hand, not a machine: speed and pressure wander at random, 1/f-like (octave-spaced random walks 0.125 Hz up to wander_rate_hz); at 1 the speed swings about x1.6 up and x1/1.6 down (one standard deviation), the pressure x1.4; 0 = a steady hand",
     },
     /// How much of the body EQ curve plays ([`crate::scene::body_eq`]).
     BodyEq {
@@ -674,5 +674,16 @@ schema! {
         place: at(Panel::Motion, Section::Surface, "Rubbing body"),
         group: None,
         doc: "What rubs the object (friction > 0), each a set of bristle stiffness and damping, viscous friction, static and Coulomb coefficients, Stribeck velocity and break-away: finger (wet skin), rubber, chalk, steel (dry metal), rosin (a bow's hair)",
+    },
+    /// The fastest of the wander's random walks ([`crate::scene::hand`]).
+    WanderRateHz {
+        key: "wander_rate_hz",
+        name: "Wander rate",
+        unit: "Hz",
+        values: log(0.25, 8.0),
+        default: 8.0,
+        place: at(Panel::Motion, Section::Gesture, "Wander rate"),
+        group: None,
+        doc: "How fast the hand wanders: its random walks run from 0.125 Hz up to this rate, the same swing shared among fewer, slower walks as it falls: 8 = drifts and wobbles (1/f over six octaves), 1 = slow surges only (a cart over uneven ground, passing traffic: every band swells together over seconds)",
     },
 }

@@ -3,10 +3,10 @@
 //! section of the rows placed on [`Panel::Motion`], laid out from the rows' places.
 //!
 //! ```text
-//! ├ GESTURE ────────────────────────────────────────────────┬ SURFACE ────────────────────────────┬ CROWD ───────┬ QUALITY ┤
-//! │ roll │ height bounce roll spin strokes rate shape wander │ seams depth path grit bumps bump rate │ balls spread │ draft    │
-//! │ drop │                                                   │                                     │ detail       │ normal   │
-//! │ spin │                                                   │                                     │              │ high …   │
+//! ├ GESTURE ─────────────────────────────────────────────────────┬ SURFACE ────────────────────────────┬ CROWD ───────┬ QUALITY ┤
+//! │ roll │ height bounce roll spin strokes rate shape wander rate │ seams depth path grit bumps bump rate │ balls spread │ draft    │
+//! │ drop │                                                        │                                     │ detail       │ normal   │
+//! │ spin │                                                        │                                     │              │ high …   │
 //! ```
 //!
 //! A section's selectors stand in a column on its left, its knobs follow in table order,
@@ -159,6 +159,7 @@ fn acts(id: ParamId, p: &Params) -> bool {
         ParamId::CrackleLevel => p.get(ParamId::Crackle) > 0.0,
         ParamId::BumpRateHz => p.get(ParamId::Bumpiness) > 0.0,
         ParamId::StrokeRateHz | ParamId::StrokeShape => p.get(ParamId::Strokes) > 0.0,
+        ParamId::WanderRateHz => p.get(ParamId::Wander) > 0.0,
         ParamId::PressureN | ParamId::RubBody => p.get(ParamId::Friction) > 0.0,
         _ => true,
     }
@@ -202,5 +203,9 @@ mod tests {
             assert!(acts(id, &p), "{}", id.key());
         }
         assert!(!acts(ParamId::SpinTimeS, &p));
+        // The wander's rate does nothing while the hand is steady.
+        assert!(!acts(ParamId::WanderRateHz, &p));
+        p.set(ParamId::Wander, 0.5).unwrap();
+        assert!(acts(ParamId::WanderRateHz, &p));
     }
 }
