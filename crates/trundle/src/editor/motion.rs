@@ -176,7 +176,7 @@ mod tests {
         let titles: Vec<&str> = sections.iter().map(|(s, _)| s.title()).collect();
         assert_eq!(titles, ["Gesture", "Surface", "Crowd", "Quality"]);
         let rows: usize = sections.iter().map(|(_, ids)| ids.len()).sum();
-        assert_eq!(rows, 26);
+        assert_eq!(rows, 27);
         // Each section opens with at most one selector and has a control.
         for (s, ids) in &sections {
             assert!(!ids.is_empty(), "{s:?}");
