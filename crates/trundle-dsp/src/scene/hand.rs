@@ -96,6 +96,20 @@ pub fn walk_weight(corner_hz: f64, rate_hz: f64) -> f64 {
     ((rate_hz / corner_hz).log2() + 1.0).clamp(0.0, 1.0)
 }
 
+/// Every walk's [`walk_weight`] at `rate_hz` and 1/√Σweight², the factor that brings their
+/// weighted sum to unit variance. Computed when the rate changes, not per chunk; a
+/// non-finite rate counts as the highest corner (every walk in).
+pub fn walk_weights(rate_hz: f64) -> ([f64; WANDER_CORNERS_HZ.len()], f64) {
+    let rate_hz = if rate_hz.is_finite() {
+        rate_hz
+    } else {
+        WANDER_CORNERS_HZ[WANDER_CORNERS_HZ.len() - 1]
+    };
+    let weights = WANDER_CORNERS_HZ.map(|f| walk_weight(f, rate_hz));
+    let energy: f64 = weights.iter().map(|k| k * k).sum();
+    (weights, 1.0 / energy.max(1e-12).sqrt())
+}
+
 /// |stroke velocity| at phase `u` ∈ [0, 1] of a stroke of shape `shape` ∈ [0, 1]:
 /// min(1, sin(πu)/sin(πh)), h = ½ − (½ − [`STROKE_SHARPEST`])·shape; 0 at both turn-arounds,
 /// 1 mid-stroke (from h to 1 − h).
@@ -124,6 +138,10 @@ pub struct Hand {
     /// The random walks of the speed and of the pressure's own part (unit variance each).
     walks: [f64; WANDER_CORNERS_HZ.len()],
     walks_p: [f64; WANDER_CORNERS_HZ.len()],
+    /// The walks' weights at the wander's rate and their unit-variance factor
+    /// ([`walk_weights`]).
+    weights: [f64; WANDER_CORNERS_HZ.len()],
+    weights_norm: f64,
     /// Speed factor and force gain now (at the chunk boundary).
     speed: f64,
     gain: f64,
@@ -134,6 +152,7 @@ pub struct Hand {
 impl Hand {
     /// A hand at `sample_rate_hz` (sanitized) with `c`, seeded with `seed`.
     pub fn new(sample_rate_hz: f64, c: HandControls, seed: u64) -> Self {
+        let (weights, weights_norm) = walk_weights(c.wander_rate_hz);
         let mut h = Self {
             fs: crate::block::sanitize_sample_rate(sample_rate_hz),
             c,
@@ -144,6 +163,8 @@ impl Hand {
             peak: 1.0,
             walks: [0.0; WANDER_CORNERS_HZ.len()],
             walks_p: [0.0; WANDER_CORNERS_HZ.len()],
+            weights,
+            weights_norm,
             speed: 1.0,
             gain: 1.0,
             rng: SmallRng::seed_from_u64(seed),
@@ -171,6 +192,9 @@ impl Hand {
 
     /// New control targets (the depths glide). Real-time safe.
     pub fn set_controls(&mut self, c: HandControls) {
+        if c.wander_rate_hz.to_bits() != self.c.wander_rate_hz.to_bits() {
+            (self.weights, self.weights_norm) = walk_weights(c.wander_rate_hz);
+        }
         self.c = c;
         self.strokes.set_target(c.strokes.clamp(0.0, 1.0));
         self.wander.set_target(c.wander.clamp(0.0, 1.0));
@@ -222,16 +246,13 @@ impl Hand {
         }
         let w = self.wander.value();
         if w > 0.0 {
-            // The walks below the rate, weighted (walk_weight) and summed to unit variance.
-            let (mut z, mut own, mut energy) = (0.0, 0.0, 0.0);
-            for ((&f, &a), &b) in WANDER_CORNERS_HZ.iter().zip(&self.walks).zip(&self.walks_p) {
-                let k = walk_weight(f, self.c.wander_rate_hz);
+            // The walks below the rate, weighted and summed to unit variance.
+            let (mut z, mut own) = (0.0, 0.0);
+            for ((&k, &a), &b) in self.weights.iter().zip(&self.walks).zip(&self.walks_p) {
                 z += k * a;
                 own += k * b;
-                energy += k * k;
             }
-            let norm = 1.0 / energy.max(1e-12).sqrt();
-            let (z, own) = (z * norm, own * norm);
+            let (z, own) = (z * self.weights_norm, own * self.weights_norm);
             let s = WANDER_PRESSURE_SHARE;
             let zp = s * z + (1.0 - s * s).sqrt() * own;
             speed *= (w * WANDER_SPEED_LN * z).exp();
@@ -383,5 +404,10 @@ mod tests {
         assert!((walk_weight(2.0, 2f64.sqrt()) - 0.5).abs() < 1e-12);
         // The slowest walk is always in: the wander never falls silent.
         assert!(walk_weight(WANDER_CORNERS_HZ[0], 0.25) == 1.0);
+        // The unit-variance factor: 1/√7 with every walk in, a non-finite rate as 8 Hz.
+        let (k, norm) = walk_weights(8.0);
+        assert!(k.iter().all(|&k| k == 1.0));
+        assert_eq!(norm, 1.0 / 7f64.sqrt());
+        assert_eq!(walk_weights(f64::NAN), (k, norm));
     }
 }
