@@ -6,7 +6,8 @@
 //!
 //! ```text
 //! excerpt ─► Welch power spectrum (Hann, ~3 Hz bins) ─► strongest peak f_p
-//!   ─► f₀ = the lowest f_p/k (k ≤ 6) that is itself a prominent peak
+//!   ─► f₀: down the f_p/k (k = 2 … 6), each taken that is itself a prominent peak and
+//!      whose harmonics add ≥ 5 % of the power to those of the f₀ held so far
 //!   ─► harmonic share: the power within ±2 % of h·f₀ (h = 1 … 16) over all power above 40 Hz
 //!   ─► stability: f₀'s strongest harmonic, frame by frame, within ±1 % of its median
 //!   ─► tonal when share ≥ 0.5 and stable ─► friction restarts tuned to f₀ (tune_size)
@@ -37,6 +38,9 @@ pub const STABLE_SPREAD: f64 = 0.01;
 const HARMONIC_TOL: f64 = 0.02;
 /// Lowest fundamental read (Hz).
 const LOWEST_HZ: f64 = 40.0;
+/// Least share of the power (above 40 Hz) a lower fundamental's harmonics must add to be
+/// taken: the bowed strings' lower readings add 11–64 %, a glass's sub-multiples 0.1–0.2 %.
+const NEW_SHARE: f64 = 0.05;
 
 /// A recording's tone: its pitch and how tonal and stable it is.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -124,13 +128,34 @@ pub fn tone(x: &[f64], fs: f64) -> Option<Tone> {
     }
     let (kp, pp) = peak_in(&mean, lo, bins - 2)?;
     let fp = kp * df;
-    // The fundamental: the lowest sub-multiple of the strongest peak that is a peak itself,
-    // 10 dB over the median of its ±10 % and within 40 dB of the strongest.
+    // Power within ±2 % of the first 16 harmonics of `f` (below Nyquist).
+    let on_harmonics = |f0: f64| {
+        let mut on = 0.0;
+        for h in 1..=16 {
+            let f = h as f64 * f0;
+            if f * (1.0 + HARMONIC_TOL) >= 0.5 * fs {
+                break;
+            }
+            let (a, b) = (
+                (f * (1.0 - HARMONIC_TOL) / df).floor() as usize,
+                (f * (1.0 + HARMONIC_TOL) / df).ceil() as usize,
+            );
+            on += mean[a.max(lo)..=b.min(bins - 1)].iter().sum::<f64>();
+        }
+        on
+    };
+    // The fundamental: going down the sub-multiples of the strongest peak (k = 2 … 6), one
+    // is taken when it is a peak itself (10 dB over the median of its ±10 %, within 40 dB of
+    // the strongest) and its harmonics hold at least NEW_SHARE of the power more than those
+    // of the fundamental held so far: a string's weak fundamental under its strong upper
+    // partials is taken (its other harmonics carry the power), a rumble that happens to sit
+    // near a sixth of a glass's tone is not (the tone's series adds nothing to the glass's).
     let mut f0 = fp;
-    for k in (2..=6).rev() {
+    let mut on = on_harmonics(fp);
+    for k in 2..=6 {
         let f = fp / k as f64;
         if f < LOWEST_HZ {
-            continue;
+            break;
         }
         let w = |r: f64| {
             (
@@ -146,22 +171,10 @@ pub fn tone(x: &[f64], fs: f64) -> Option<Tone> {
         let mut around: Vec<f64> = mean[c.max(1)..=d.min(bins - 1)].to_vec();
         around.sort_by(f64::total_cmp);
         let median = around[around.len() / 2];
-        if p >= 1e-4 * pp && p >= 10.0 * median && kk > 0.0 {
-            f0 = fp / k as f64;
-            break;
+        let on_f = on_harmonics(f);
+        if p >= 1e-4 * pp && p >= 10.0 * median && kk > 0.0 && on_f - on >= NEW_SHARE * total {
+            (f0, on) = (f, on_f);
         }
-    }
-    let mut on = 0.0;
-    for h in 1..=16 {
-        let f = h as f64 * f0;
-        if f * (1.0 + HARMONIC_TOL) >= 0.5 * fs {
-            break;
-        }
-        let (a, b) = (
-            (f * (1.0 - HARMONIC_TOL) / df).floor() as usize,
-            (f * (1.0 + HARMONIC_TOL) / df).ceil() as usize,
-        );
-        on += mean[a.max(lo)..=b.min(bins - 1)].iter().sum::<f64>();
     }
     // Stability: the strongest peak's harmonic, frame by frame.
     let h = (fp / f0).round().max(1.0);
@@ -386,6 +399,8 @@ pub fn friction_dims(p: &Params) -> Vec<Dim> {
         dim("position_x", -1.0, 1.0, false),
         dim("position_y", -1.0, 1.0, false),
         dim("decay", 0.1, 10.0, true),
+        dim("material_x", -1.0, 1.0, false),
+        dim("material_y", -1.0, 1.0, false),
         dim("gain_db", -12.0, 12.0, false),
     ]
     .into_iter()
@@ -418,6 +433,73 @@ mod tests {
         let y = render(&cloth, fs, 2.5);
         let u = tone(&y[fs as usize..], fs).unwrap();
         assert!(!u.is_tonal(), "{u:?}");
+    }
+
+    /// A sum of harmonics `(number, amplitude)` of `f0_hz`, plus a quiet white noise floor
+    /// (a fixed LCG, -60 dB) and, when asked, a rumble: a 1 %-wide noise band.
+    fn partials(f0_hz: f64, amps: &[(u32, f64)], rumble: Option<(f64, f64)>, fs: f64) -> Vec<f64> {
+        let n = (2.0 * fs) as usize;
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut white = move || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1);
+            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        let tau = core::f64::consts::TAU;
+        let (mut lp, mut bp) = (0.0, 0.0);
+        (0..n)
+            .map(|i| {
+                let t = i as f64 / fs;
+                let mut v: f64 = amps
+                    .iter()
+                    .map(|&(h, a)| a * (tau * f64::from(h) * f0_hz * t).sin())
+                    .sum();
+                v += 1e-3 * white();
+                if let Some((f, a)) = rumble {
+                    // A two-pole resonator on white noise: a band at f of Q ≈ 100.
+                    let g = tau * f / fs;
+                    let r = 1.0 - g / 200.0;
+                    let y = white() + 2.0 * r * g.cos() * lp - r * r * bp;
+                    (bp, lp) = (lp, y);
+                    v += a * g / 200.0 * y;
+                }
+                v
+            })
+            .collect()
+    }
+
+    /// The fundamental is the series the power sits on. A glass's tone at 735 Hz (with its
+    /// octave) over a rumble near a sixth of it (the OLPC musical glass of docs/guide/
+    /// match.md) reads 735 Hz, not 122.5; a string whose fundamental lies 40 dB under its
+    /// strong upper partials (69.7 Hz under 209 Hz, the corpus's cello) reads its
+    /// fundamental; a pure tone reads itself.
+    #[test]
+    fn the_pitch_is_the_series_that_carries_the_power() {
+        let fs = 44_100.0;
+        let glass = partials(735.0, &[(1, 1.0), (2, 0.05)], Some((122.5, 0.3)), fs);
+        let t = tone(&glass, fs).unwrap();
+        assert!((t.pitch_hz / 735.0 - 1.0).abs() < 0.005, "{t:?}");
+        let string = partials(
+            69.7,
+            &[
+                (1, 0.01),
+                (2, 0.3),
+                (3, 1.0),
+                (4, 0.4),
+                (5, 0.5),
+                (6, 0.2),
+                (7, 0.3),
+            ],
+            None,
+            fs,
+        );
+        let t = tone(&string, fs).unwrap();
+        assert!((t.pitch_hz / 69.7 - 1.0).abs() < 0.005, "{t:?}");
+        assert!(t.is_tonal(), "{t:?}");
+        let pure = partials(440.0, &[(1, 1.0)], None, fs);
+        let t = tone(&pure, fs).unwrap();
+        assert!((t.pitch_hz / 440.0 - 1.0).abs() < 0.005, "{t:?}");
     }
 
     /// The pre-search moves the glass's start towards a glass pressed, drawn and touched

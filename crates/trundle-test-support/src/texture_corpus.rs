@@ -77,6 +77,7 @@ const TORCS: &str =
 const WIDELANDS: &str = "2002–2019 the Widelands Development Team";
 const LINCITY: &str = "1995–2008 I J Peters, Greg Sharp, Corey Keasling and the LinCity-NG authors";
 const FLUID: &str = "2000–2002, 2008 Frank Wen; 2008 Toby Smithe (FluidR3 GM)";
+const OLPC: &str = "Nils Van Ottorloo, for the OLPC sound samples library";
 
 #[allow(clippy::too_many_arguments)]
 const fn clip(
@@ -104,7 +105,7 @@ const fn clip(
 }
 
 /// The corpus (`docs/corpus.md` lists the clips tried and left out).
-pub const CORPUS: [Clip; 12] = [
+pub const CORPUS: [Clip; 13] = [
     clip(
         "tyres on asphalt",
         "torcs-data",
@@ -236,6 +237,21 @@ pub const CORPUS: [Clip; 12] = [
         "a cello's C#5 bowed, the attack cut",
         "MIT",
         FLUID,
+    ),
+    clip(
+        "finger round a glass rim",
+        "cube2-data",
+        Source::File(
+            "/usr/share/games/cube2/packages/sounds/olpc/NilsVanOttorloo/Musical_Glasses8.wav",
+        ),
+        0.0,
+        Some(2.5),
+        Kind::PitchedRub,
+        "a musical glass sung by a wet finger circling its rim, 735 Hz with its octave (OLPC \
+         sound samples, shipped with Cube 2: Sauerbraten), its last 0.7 s of free ring-down \
+         cut",
+        "CC-BY-3.0",
+        OLPC,
     ),
 ];
 
