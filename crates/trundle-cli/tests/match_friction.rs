@@ -89,9 +89,10 @@ fn sung_round_trip(name: &str, sets: &[&str], seed: &str, own_bar_db: f64) {
 
 /// A glass the friction restarts do not hold (smaller, so it sings higher, pressed and
 /// drawn otherwise, touched elsewhere than the preset's). The tone must be the model's:
-/// issue #27 wants it within 6 dB of the recording's spectrum with no EQ. Measured: 3.6 dB
-/// at both seeds (11.6 before the harmonic pre-search and the tonal weighting of the own
-/// spectrum), modulation 1.5–2.0 dB at the validation seeds.
+/// issue #27 wants it within 6 dB of the recording's spectrum with no EQ. Measured: 2.1 dB
+/// at both seeds since the search moves the material too (3.6 before; 11.6 before the
+/// harmonic pre-search and the tonal weighting of the own spectrum), modulation 2.8–3.0 dB
+/// at the validation seeds (1.5–2.0 before the material: the margin this test has left).
 #[test]
 fn a_sung_glass_is_matched_by_friction_on_its_pitch() {
     let sets = [
@@ -105,7 +106,8 @@ fn a_sung_glass_is_matched_by_friction_on_its_pitch() {
 
 /// A second glass, unseen while the pre-search was built: larger (it sings lower), a firmer
 /// touch drawn faster, touched near the far edge, another seed. Measured: all four measures
-/// at the validation seeds (modulation 2.1–2.9 dB), the model's own spectrum 4.6 dB.
+/// at the validation seeds (modulation 1.3 dB; 2.1–2.9 before the material was searched),
+/// the model's own spectrum 4.8 dB (4.6).
 #[test]
 fn a_larger_glass_touched_near_its_edge_is_matched_too() {
     let sets = [
