@@ -12,7 +12,7 @@
 //!   ─► each render through the curve ─► profile ─► compare ─► loss ─► CMA-ES ─► next x
 //! ```
 
-use crate::match_pitch::friction_dims;
+use crate::match_pitch::{friction_dims, TEXTURE_LOSS};
 use crate::match_space::{self, apply_eq, Dim, EqCurve, MAX_EQ_DB};
 use indicatif::ProgressBar;
 use rayon::prelude::*;
@@ -438,19 +438,22 @@ pub fn search(target: &Target, plan: &Plan, pool: &rayon::ThreadPool, bar: &Prog
     let mut screened: Vec<Judged> = judge_all(&plan.starts);
     let mut evaluations = screened.len();
     screened.sort_by(|a, b| a.loss.total_cmp(&b.loss));
+    // Each start's loss as screened: what decides a friction start's textures, before the
+    // sweeps move the first.
+    let screened_loss: Vec<f64> = screened.iter().map(|j| j.loss).collect();
     let mut best: Option<Judged> = None;
     // A start's controls: a friction start (friction > 0) searches the contact's
-    // (match_pitch::friction_dims, anchored on the start's tuned size), any other the
-    // signal model's.
-    let dims_of = |p: &Params| -> Vec<Dim> {
+    // (match_pitch::friction_dims, anchored on the start's tuned size; the textures too when
+    // its screened loss is above TEXTURE_LOSS), any other the signal model's.
+    let dims_of = |p: &Params, loss: f64| -> Vec<Dim> {
         if p.get(ParamId::Friction) > 0.0 {
-            friction_dims(p)
+            friction_dims(p, loss > TEXTURE_LOSS)
         } else {
             plan.dims.to_vec()
         }
     };
     if let Some(first) = screened.first().cloned() {
-        let dims = dims_of(&first.params);
+        let dims = dims_of(&first.params, first.loss);
         let mut b = first;
         for step in SWEEP_STEPS {
             if b.loss <= plan.target_loss || evaluations + 2 * dims.len() + 1 > plan.budget {
@@ -470,7 +473,7 @@ pub fn search(target: &Target, plan: &Plan, pool: &rayon::ThreadPool, bar: &Prog
             best = Some(start.clone());
         }
         let base = &start.params;
-        let dims = dims_of(base);
+        let dims = dims_of(base, screened_loss[k]);
         let x0 = match_space::point_of(&dims, base);
         let settings = Settings {
             target: plan.target_loss,

@@ -107,7 +107,7 @@ const KNOWN_OUTSIDE: [(&str, &str); 13] = [
     ),
     (
         "finger round a glass rim",
-        "a pitched rub, friction chosen on its pitch (735 Hz): modulation 6.3 dB, texture 1.5 (shaped noise 1.16), kurtosis x0.64, own spectrum 10.8 dB (the shell's n = 3 ring mode near 2 kHz rings 27 dB over the recording's), not brighter at 1.5x (x1.00)",
+        "a pitched rub, friction chosen on its pitch (735 Hz) with strokes and micro: modulation 5.1 dB, texture 1.5 (shaped noise 1.16), own spectrum 9.2 dB (the shell's n = 3 ring mode near 2 kHz rings 27 dB over the recording's), not brighter at 1.5x (x1.00)",
     ),
 ];
 
