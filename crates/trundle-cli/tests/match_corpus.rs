@@ -376,7 +376,7 @@ fn table(rows: &[Row]) -> String {
 }
 
 #[test]
-#[ignore = "needs Debian's torcs-data, widelands-data, lincity-ng-data and fluid-soundfont-gm (apt-get install torcs-data widelands-data lincity-ng-data fluid-soundfont-gm)"]
+#[ignore = "needs Debian's torcs-data, widelands-data, lincity-ng-data, fluid-soundfont-gm and cube2-data (apt-get install torcs-data widelands-data lincity-ng-data fluid-soundfont-gm cube2-data)"]
 fn every_corpus_clip_is_matched_within_the_bar() {
     let jobs = env("TRUNDLE_MATCH_JOBS")
         .map(|j| j.parse::<usize>().expect("TRUNDLE_MATCH_JOBS: a number"))

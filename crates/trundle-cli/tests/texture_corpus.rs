@@ -92,7 +92,7 @@ impl Profiles<'_> {
 }
 
 #[test]
-#[ignore = "needs Debian's torcs-data, widelands-data, lincity-ng-data and fluid-soundfont-gm (apt-get install torcs-data widelands-data lincity-ng-data fluid-soundfont-gm)"]
+#[ignore = "needs Debian's torcs-data, widelands-data, lincity-ng-data, fluid-soundfont-gm and cube2-data (apt-get install torcs-data widelands-data lincity-ng-data fluid-soundfont-gm cube2-data)"]
 fn every_clip_passes_its_own_half_and_fails_every_other() {
     let clips: Vec<Texture> = CORPUS
         .iter()

@@ -284,7 +284,7 @@ impl Texture {
 }
 
 /// The `#[ignore]` reason of the tests that read the corpus.
-pub const NEEDS_TEXTURES: &str = "needs Debian's torcs-data, widelands-data, lincity-ng-data and fluid-soundfont-gm (apt-get install torcs-data widelands-data lincity-ng-data fluid-soundfont-gm)";
+pub const NEEDS_TEXTURES: &str = "needs Debian's torcs-data, widelands-data, lincity-ng-data, fluid-soundfont-gm and cube2-data (apt-get install torcs-data widelands-data lincity-ng-data fluid-soundfont-gm cube2-data)";
 
 /// Why a clip cannot be read: its message names the package to install.
 #[derive(Clone, Debug, PartialEq)]
