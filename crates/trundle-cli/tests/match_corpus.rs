@@ -107,7 +107,7 @@ const KNOWN_OUTSIDE: [(&str, &str); 13] = [
     ),
     (
         "finger round a glass rim",
-        "a pitched rub, friction chosen on its pitch (735 Hz) with strokes and micro: modulation 5.1 dB, texture 1.5 (shaped noise 1.16), own spectrum 9.2 dB (the shell's n = 3 ring mode near 2 kHz rings 27 dB over the recording's), not brighter at 1.5x (x1.00)",
+        "a pitched rub, friction chosen on its pitch (735 Hz) with strokes and micro: modulation 5.1 dB, texture 1.5 (shaped noise 1.16), own spectrum 9.2 dB (the rub beside the tone 12-18 dB too loud at 315-500 Hz, the octave 16 dB short), not brighter at 1.5x (x1.00)",
     ),
 ];
 
