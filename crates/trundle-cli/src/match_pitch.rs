@@ -171,9 +171,11 @@ pub fn tone(x: &[f64], fs: f64) -> Option<Tone> {
         let mut around: Vec<f64> = mean[c.max(1)..=d.min(bins - 1)].to_vec();
         around.sort_by(f64::total_cmp);
         let median = around[around.len() / 2];
-        let on_f = on_harmonics(f);
-        if p >= 1e-4 * pp && p >= 10.0 * median && kk > 0.0 && on_f - on >= NEW_SHARE * total {
-            (f0, on) = (f, on_f);
+        if p >= 1e-4 * pp && p >= 10.0 * median && kk > 0.0 {
+            let on_f = on_harmonics(f);
+            if on_f - on >= NEW_SHARE * total {
+                (f0, on) = (f, on_f);
+            }
         }
     }
     // Stability: the strongest peak's harmonic, frame by frame.
@@ -422,8 +424,9 @@ pub fn friction_dims(p: &Params, textures: bool) -> Vec<Dim> {
 /// A friction start whose screened loss is above this also searches the textures
 /// ([`friction_dims`]): the first sung synthetic glass of `tests/match_friction.rs` screens
 /// its friction starts at 0.65 and 1.6 (the tone is the whole sound), the corpus's musical
-/// glass at 7.7 (a finger's swell and squeak beside the tone). Searched on the synthetic glasses too, the four extra
-/// dimensions left the search at its start there (modulation 3.9 dB at an unseen seed).
+/// glass at 7.7 (a finger's swell and squeak beside the tone). Searched on the synthetic
+/// glasses too, the four extra dimensions left the search at its start there (modulation
+/// 3.9 dB at an unseen seed).
 pub const TEXTURE_LOSS: f64 = 2.0;
 
 #[cfg(test)]
