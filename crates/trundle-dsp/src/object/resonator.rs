@@ -84,6 +84,7 @@ mod gains;
 mod glide;
 mod poles;
 mod process;
+pub mod turn;
 
 /// Output level constant G (calibrated so the default scene plays around −20 dBFS RMS).
 pub const OBJECT_LEVEL: f64 = 300.0;
@@ -291,6 +292,12 @@ pub struct Object {
     norm: f64,
     /// A fitted object's gliding modes (empty otherwise: nothing is paid for them).
     glides: glide::Glides,
+    /// A shell's doublets turning with a rubbing contact ([`turn`]).
+    turn: Box<turn::Turn>,
+    /// What each bank slot is to the turning pairs.
+    turn_member: Vec<gains::TurnMember>,
+    /// The pickups' balance factors (left, right) of the last pickup update.
+    balance: [f64; 2],
 }
 
 impl Object {
@@ -346,6 +353,9 @@ impl Object {
             loaded: None,
             norm: 0.0,
             glides: glide::Glides::default(),
+            turn: Box::new(turn::Turn::new()),
+            turn_member: vec![gains::TurnMember::None; REFERENCE_MODES],
+            balance: [1.0, 1.0],
         };
         o.set_controls(c);
         o.snap_controls();
@@ -359,7 +369,11 @@ impl Object {
         self.long = LongBank::new(LONG_MODES_MAX);
         self.long_of.iter_mut().for_each(|x| *x = NOT_LONG);
         self.long_ringing = false;
+        let on = self.turn.on;
+        *self.turn = turn::Turn::new();
+        self.turn.on = on;
         self.poles_dirty = true;
+        self.gains_dirty = true;
         self.update();
     }
 
@@ -368,7 +382,23 @@ impl Object {
         self.bank.reset();
         self.long.reset();
         self.long_ringing = false;
+        self.turn.reset();
         self.snap_controls();
+    }
+
+    /// Let a shell's standing waves turn with the contact ([`turn`]: a finger rubbed round
+    /// a rim) or hold them still (the default). Applies at the next chunk; no effect on
+    /// other shapes or a fitted object. Real-time safe.
+    pub fn set_turning(&mut self, on: bool) {
+        if on != self.turn.on {
+            self.turn.on = on;
+            self.gains_dirty = true;
+        }
+    }
+
+    /// True while a shell's standing waves turn with the contact.
+    pub fn turning(&self) -> bool {
+        self.turn.on && self.shape == Shape::Shell && self.loaded.is_none()
     }
 
     /// Set the control targets (continuous ones are smoothed; shape and mode count apply at
@@ -476,7 +506,7 @@ impl Object {
     /// True when the object has rung out: every processed mode's state is zero, so a zero
     /// input gives exact zeros.
     pub fn is_silent(&self) -> bool {
-        self.bank.is_silent() && !self.long_ringing
+        self.bank.is_silent() && !self.long_ringing && !self.turn.ringing()
     }
 
     fn smoothers(&self) -> [&Smoother; 7] {

@@ -287,6 +287,12 @@ impl Space {
                 .any(|s| s.is_moving())
     }
 
+    /// True when the ball travels a trajectory (any but `manual`): the contact goes round or
+    /// along the object.
+    pub fn travels(&self) -> bool {
+        self.trajectory != Trajectory::Manual
+    }
+
     /// True while the stage processes (amount above zero or fading out).
     pub fn is_active(&self) -> bool {
         self.active

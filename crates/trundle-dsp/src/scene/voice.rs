@@ -17,19 +17,18 @@
 //! list; `Voice::render_chunk` runs them in the order drawn above.
 //!
 //! The force comes from the signal model ([`Source`]) or from the physics engine
-//! ([`PhysicsEngine`]), chosen by the `engine` parameter; the mapping of the controls onto
-//! the physics and the level normalization are in [`crate::physics::mapping`]; the choice, the
-//! physics controls' smoothing and the crossfade on a change of engine are
-//! [`crate::scene::engine_mix::EngineMix`]'s. With `engine = signal` the output is exactly
-//! (bit for bit) what it was before the physics engine existed. The impact log
-//! ([`Voice::drain_impacts`]) reports the impacts of whichever engine runs (the physics
-//! ball's contacts, see [`crate::scene::engine_mix`]).
+//! ([`PhysicsEngine`]), chosen by the `engine` parameter; the mapping of the controls onto the
+//! physics and the level normalization are in [`crate::physics::mapping`]; the choice, the physics
+//! controls' smoothing and the crossfade on a change of engine are
+//! [`crate::scene::engine_mix::EngineMix`]'s. With `engine = signal` the output is exactly (bit for
+//! bit) what it was before the physics engine existed. The impact log ([`Voice::drain_impacts`])
+//! reports the impacts of whichever engine runs (the physics ball's contacts, see
+//! [`crate::scene::engine_mix`]).
 //!
-//! Lifecycle ([`crate::stage`]): [`Voice::new`] allocates; [`Voice::set_sample_rate`] may
-//! allocate; [`Voice::reset`] and [`Voice::process`] never do. Blocks of any length are
-//! split into chunks of [`CHUNK`] samples, so the output does not depend on the block size:
-//! the same seed and parameters give the same samples whether rendered in blocks of 1 or
-//! 8192.
+//! Lifecycle ([`crate::stage`]): [`Voice::new`] allocates; [`Voice::set_sample_rate`] may allocate;
+//! [`Voice::reset`] and [`Voice::process`] never do. Blocks of any length are split into chunks of
+//! [`CHUNK`] samples, so the output does not depend on the block size: the same seed and parameters
+//! give the same samples whether rendered in blocks of 1 or 8192.
 
 use crate::block::{flush_output, CHUNK};
 use crate::object::fitted::LoadedObject;
@@ -596,6 +595,8 @@ impl Voice {
         Stage::process(&mut c.bumps, (&mut self.force, &c.source, size, speed));
         self.apply_ball_level();
         let c = &mut self.chain;
+        let turning = c.engines.friction_on() && c.space.travels(); // `resonator::turn`
+        c.object.set_turning(turning);
         let silent_force = self.force.iter().all(|&f| f == 0.0);
         if self.quiet
             && silent_force
@@ -621,8 +622,7 @@ impl Voice {
             self.force_mix.advance(CHUNK, self.fs);
             return;
         }
-        // The object hears the force without its static load (see `dcblock`), at the
-        // ball's place.
+        // The object hears the force without its static load (`dcblock`), at the ball.
         Stage::process(&mut c.dc, (&self.force, &mut self.coupled));
         self.quiet = silent_force && self.coupled.iter().all(|&c| c == 0.0);
         c.object.set_ball(c.space.ball());

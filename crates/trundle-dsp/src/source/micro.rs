@@ -16,7 +16,10 @@
 //! * **Level.** The noise has unit variance whatever the band and the sample rate (its white
 //!   source is scaled by √(f_s/2B), B the band's noise bandwidth), times
 //!   `micro`·[`MICRO_GAIN`]·√V·(0.25 + 0.75ρ) and times the **contact envelope** e(t):
-//!   |F − F̄| (F̄ the force's 10 ms mean, so a static load does not count) followed with an
+//!   |F − F̄| (F̄ the force's 10 ms mean with its trend, Brown's double smoothing
+//!   F̄ = 2·m₁ − m₂, m₂ the 10 ms mean of m₁: a static load does not count, nor one that
+//!   changes steadily, as a rubbing finger's friction force does while it is set down,
+//!   [`crate::physics::friction::TOUCH_S`]) followed with an
 //!   [`ATTACK_S`] attack and a [`RELEASE_S`] release. With the envelope's own √V (the loudness law L(V)) the micro force's
 //!   amplitude grows as V and its power per hertz as V (the power spread over a band ∝ V):
 //!   friction noise grows with the power dissipated, μ·N·v. The envelope makes the noise
@@ -61,7 +64,10 @@ pub const MICRO_GAIN: f64 = 2.6;
 pub const ATTACK_S: f64 = 1.0e-4;
 /// Release time of the contact envelope (s): the gate closes this fast after a contact.
 pub const RELEASE_S: f64 = 0.001;
-/// Time constant of the force's running mean, removed before the envelope (s).
+/// Time constant of the force's running means (m₁, m₂ of the module docs), removed before
+/// the envelope (s). With m₁ alone, the friction force rising to its static load over a
+/// touch-down read as 10 ms × its slope: it held the gate open at 30 times the steady
+/// stick-slip's level for 0.15 s.
 pub const MEAN_S: f64 = 0.010;
 /// Pivot of the `micro_tone` tilt (Hz).
 pub const TILT_PIVOT_HZ: f64 = 4_000.0;
@@ -126,8 +132,10 @@ pub struct Micro {
     hp_state: f32,
     /// Tilt state (the one-pole low-pass split at the pivot).
     tilt_state: f32,
-    /// Running mean of the force and the contact envelope.
+    /// Running mean of the force, its own running mean (the trend: F̄ = 2·mean − mean2) and
+    /// the contact envelope.
     mean: f32,
+    mean2: f32,
     env: f32,
     /// The directly radiated share is made (the default; off for measuring what the modes
     /// alone make of the micro force).
@@ -150,6 +158,7 @@ impl Micro {
             hp_state: 0.0,
             tilt_state: 0.0,
             mean: 0.0,
+            mean2: 0.0,
             env: 0.0,
             direct_on: true,
             noise: [0.0; CHUNK],
@@ -166,6 +175,7 @@ impl Micro {
         self.hp_state = 0.0;
         self.tilt_state = 0.0;
         self.mean = 0.0;
+        self.mean2 = 0.0;
         self.env = 0.0;
         self.amount.snap_to_target();
         self.tone.snap_to_target();
@@ -238,7 +248,8 @@ impl Micro {
             // The contact envelope: |F − F̄| followed with the attack, held with the release.
             let f = force[i];
             self.mean += mean_k * (f - self.mean);
-            let target = (f - self.mean).abs();
+            self.mean2 += mean_k * (self.mean - self.mean2);
+            let target = (f - (2.0 * self.mean - self.mean2)).abs();
             self.env = if target > self.env {
                 self.env + att * (target - self.env)
             } else {
@@ -252,6 +263,7 @@ impl Micro {
             &mut self.hp_state,
             &mut self.tilt_state,
             &mut self.mean,
+            &mut self.mean2,
             &mut self.env,
         ] {
             if s.abs() < FLUSH_THRESHOLD {
@@ -292,10 +304,64 @@ impl Stage for Micro {
     }
 
     fn is_idle(&self) -> bool {
-        self.is_off() || (self.env == 0.0 && self.mean == 0.0 && !self.amount.is_moving())
+        self.is_off()
+            || (self.env == 0.0
+                && self.mean == 0.0
+                && self.mean2 == 0.0
+                && !self.amount.is_moving())
     }
 
     fn process(&mut self, (force, direct, speed): Self::Io<'_>) {
         self.process_chunk(force, direct, speed);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The peak micro force `Micro` adds to 0.3 s of `force(t)` (the last 0.15 s read).
+    fn late_peak(force: impl Fn(f64) -> f64) -> f32 {
+        let fs = 48_000.0;
+        let mut p = Params::default();
+        p.set(ParamId::Micro, 1.0).unwrap();
+        let mut m = Micro::new(fs, &p, 1);
+        let mut direct = [0f32; CHUNK];
+        let mut peak = 0f32;
+        for c in 0..(0.3 * fs) as usize / CHUNK {
+            let mut chunk = [0f32; CHUNK];
+            for (i, f) in chunk.iter_mut().enumerate() {
+                *f = force((c * CHUNK + i) as f64 / fs) as f32;
+            }
+            let before = chunk;
+            m.process_chunk(&mut chunk, &mut direct, (0.5, 0.5));
+            if (c * CHUNK) as f64 > 0.15 * fs {
+                for (a, b) in chunk.iter().zip(&before) {
+                    peak = peak.max((a - b).abs());
+                }
+            }
+        }
+        peak
+    }
+
+    /// A load that rises steadily (a finger's friction force while it is set down) does not
+    /// open the gate: with its trend removed, a ramp of 10 per second leaves under 2 % of the
+    /// micro force that an alternating load of slope × [`MEAN_S`] (what the mean alone
+    /// left of the ramp: 0.1) opens.
+    #[test]
+    fn a_steadily_rising_load_does_not_open_the_gate() {
+        let ramp = late_peak(|t| 10.0 * t);
+        let alternating = late_peak(|t| {
+            if (t * 1000.0) as u64 % 2 == 0 {
+                0.1
+            } else {
+                -0.1
+            }
+        });
+        assert!(alternating > 0.0);
+        assert!(
+            ramp < 0.02 * alternating,
+            "ramp {ramp:e} vs alternating {alternating:e}"
+        );
     }
 }

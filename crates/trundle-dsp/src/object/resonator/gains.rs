@@ -3,8 +3,26 @@
 //! one level normalization and culling shared by recipe and fitted objects
 //! ([`Object::normalize_and_cull`]). Run when the ball, the listening point or the width move.
 
+use super::turn::TURN_PAIRS_MAX;
 use super::*;
 use crate::object::shape::ShapeMode;
+
+/// What a bank slot is to the turning pairs ([`super::turn`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum TurnMember {
+    /// Not turning: the bank plays it.
+    None,
+    /// The lower member of turning pair j (the pair's frequency and amplitude).
+    Lower(u16),
+    /// The upper member of a turning pair (silent in the bank).
+    Upper,
+}
+
+impl TurnMember {
+    pub(super) fn lower(self) -> bool {
+        matches!(self, TurnMember::Lower(_))
+    }
+}
 
 impl Object {
     /// Set bank slot `k`'s complex input gain g + i·h and side weight, wherever it runs.
@@ -75,6 +93,7 @@ impl Object {
         } else {
             1.0
         };
+        self.balance = [bl, br];
         for k in 0..self.modes.min(table.len()) {
             if self.amp[k] != 0.0 {
                 self.pick[k] = [self.pick[k][0] * bl, self.pick[k][1] * br];
@@ -146,12 +165,48 @@ impl Object {
             };
             energy += em;
         }
+        let turning = self.turn.on && shape == Shape::Shell;
+        self.turn_pairs(turning, n);
+        if turning {
+            // Each turning pair: its share of the level law is its mean square over a turn,
+            // ⟨(½·(b_L·c_L + b_R·c_R))²⟩ = (b_L² + b_R²)/8 + b_L·b_R·cos(n·(θ_L − θ_R))/4
+            // (module `turn`); the gain the contact reads (`modes`, the friction's weights)
+            // is the static pair's at its best angle, a·|(m_cos, m_sin)| with m the members'
+            // mid pickups, the same wherever the contact is.
+            let [bl, br] = self.balance;
+            let table = self.tables.modes(shape);
+            for j in 0..self.turn.len {
+                let k = self.turn.slot[j];
+                if !self.turn_member[k].lower() {
+                    continue;
+                }
+                let (lo, up) = (&table[k], &table[k + 1]);
+                let (pl, pr) = (&self.pick_shapes[0], &self.pick_shapes[1]);
+                let cos_lr = pl.phi(lo) * pr.phi(lo) + pl.phi(up) * pr.phi(up);
+                let mean_sq = 0.125 * (bl * bl + br * br) + 0.25 * bl * br * cos_lr;
+                let a = self.amp[k];
+                let mid = |q: [f64; 2]| 0.5 * (q[0] + q[1]);
+                let x = a * mid(self.pick[k]).hypot(mid(self.pick[k + 1]));
+                for slot in [k, k + 1] {
+                    let old = self.info[slot].gain;
+                    energy -= old * old * self.info[slot].decay_s;
+                    self.info[slot].side = 0.0;
+                }
+                energy += a * a * mean_sq.max(0.0) * self.info[k].decay_s;
+                self.info[k].gain = x;
+                self.info[k + 1].gain = 0.0;
+                loudest = loudest.max(x * x * self.info[k].decay_s);
+            }
+            energy = energy.max(0.0);
+        }
         self.normalize_and_cull(n, energy, loudest, self.n_high);
     }
 
     /// Gains and side weights of a fitted object: the recipe's level law (a white force
     /// gives the same loudness), culling, the pseudo-random stereo image ([`fitted`]).
     pub(super) fn update_gains_loaded(&mut self) {
+        // A fitted object has no doublets: nothing turns.
+        self.turn_pairs(false, 0);
         let w = self.width.value();
         let n = self.modes;
         let (mut energy, mut loudest) = (0.0f64, 0.0f64);
@@ -193,7 +248,23 @@ impl Object {
             self.culled += culled as usize;
             let g = if sounding { info.gain * norm } else { 0.0 };
             self.info[k].gain = g;
-            if sounding && !culled {
+            let member = self.turn_member[k];
+            if member != TurnMember::None {
+                // A turning pair: the bank's slots get no input (they ring out); the pair
+                // plays in `turn`, its lower member's amplitude at full weight.
+                self.set_slot_gains(k, 0.0, 0.0, 0.0);
+                if let TurnMember::Lower(j) = member {
+                    let j = usize::from(j);
+                    self.turn.gain[j] = if sounding && !culled {
+                        self.amp[k] * norm
+                    } else {
+                        0.0
+                    };
+                }
+                if self.slot_ringing(k) {
+                    last_active = k + 1;
+                }
+            } else if sounding && !culled {
                 self.set_slot_gains(k, g, h * norm, info.side);
                 last_active = k + 1;
             } else {
@@ -253,5 +324,54 @@ fn share_doublet_sides(table: &[ShapeMode], info: &mut [ModeInfo]) {
             info[k + 1].side = d;
         }
         k += 2;
+    }
+}
+
+impl Object {
+    /// The turning pairs for the first `n` modes (module `turn`): with `turning`, every
+    /// doublet of a shell whose two members are both played; none otherwise (the pairs in
+    /// play ring out with no input). Also the pairs' output gains at the ball's angle.
+    fn turn_pairs(&mut self, turning: bool, n: usize) {
+        let table = self.tables.modes(self.shape);
+        for m in self.turn_member.iter_mut() {
+            *m = TurnMember::None;
+        }
+        if !turning {
+            for g in self.turn.gain[..self.turn.len].iter_mut() {
+                *g = 0.0;
+            }
+            return;
+        }
+        let mut j = 0;
+        let mut k = 0;
+        while k + 1 < n.min(table.len()) && j < TURN_PAIRS_MAX {
+            let (a, b) = (&table[k], &table[k + 1]);
+            if a.m != b.m || a.n == b.n || self.amp[k] == 0.0 {
+                k += 1;
+                continue;
+            }
+            if j >= self.turn.len || self.turn.slot[j] != k {
+                self.turn.clear_pole(j);
+            }
+            self.turn.slot[j] = k;
+            self.turn.order[j] = a.m;
+            self.turn_member[k] = TurnMember::Lower(j as u16);
+            self.turn_member[k + 1] = TurnMember::Upper;
+            // The pattern's value at each pickup: cos(n·(θ_pickup − θ_contact)).
+            let at = |p: &PositionShapes| {
+                p.phi(a) * self.ball_shapes.phi(a) + p.phi(b) * self.ball_shapes.phi(b)
+            };
+            let cl = self.balance[0] * at(&self.pick_shapes[0]);
+            let cr = self.balance[1] * at(&self.pick_shapes[1]);
+            let w = self.width.value();
+            self.turn.out_now[j] = (0.5 * (cl + cr), 0.5 * w * (cl - cr));
+            j += 1;
+            k += 2;
+        }
+        for i in j..self.turn.len {
+            self.turn.gain[i] = 0.0;
+            self.turn.clear_pole(i);
+        }
+        self.turn.len = j;
     }
 }

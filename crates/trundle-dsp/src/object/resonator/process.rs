@@ -38,6 +38,7 @@ impl Object {
     /// Filter one chunk of force through the object (`out` overwritten with the mono mix,
     /// the mid).
     pub fn process_chunk(&mut self, force: &[f32], out: &mut [f32]) {
+        self.turn.begin_chunk();
         self.advance_controls(force.len());
         if self.is_silent() && force.iter().all(|&x| x == 0.0) {
             // Rung out and no input: the output is exactly zero; no mode is touched.
@@ -49,6 +50,8 @@ impl Object {
         if self.long.used() > 0 {
             self.long.process_add(force, out, None);
         }
+        self.turn_poles();
+        self.turn.process_add(force, out, None);
         self.after_chunk();
     }
 
@@ -56,6 +59,7 @@ impl Object {
     /// (L = mid + side, R = mid − side; `mid` is what [`process_chunk`](Self::process_chunk)
     /// writes). At width 0 the side is zero and costs nothing.
     pub fn process_chunk_stereo(&mut self, force: &[f32], mid: &mut [f32], side: &mut [f32]) {
+        self.turn.begin_chunk();
         self.advance_controls(force.len());
         if self.is_silent() && force.iter().all(|&x| x == 0.0) {
             mid.iter_mut().for_each(|y| *y = 0.0);
@@ -69,13 +73,26 @@ impl Object {
             if self.long.used() > 0 {
                 self.long.process_add(force, mid, None);
             }
+            self.turn_poles();
+            self.turn.process_add(force, mid, None);
         } else {
             self.bank.process_stereo(force, mid, side);
             if self.long.used() > 0 {
                 self.long.process_add(force, mid, Some(side));
             }
+            self.turn_poles();
+            self.turn.process_add(force, mid, Some(side));
         }
         self.after_chunk();
+    }
+
+    /// The turning pairs' poles follow their lower members' (material, size and decay
+    /// glide per chunk).
+    fn turn_poles(&mut self) {
+        for j in 0..self.turn.len {
+            let info = self.info[self.turn.slot[j]];
+            self.turn.set_pole(j, info.freq_hz, info.decay_s, self.fs);
+        }
     }
 
     pub(super) fn after_chunk(&mut self) {
