@@ -24,10 +24,10 @@
 use crate::compare_cmd::load_mono;
 use crate::error::{failure, input, quote, CliError};
 use crate::fit_cmd::{fit_file, write_text};
-use crate::match_pitch::{friction_starts, harmonic_presearch, tone, tune_size};
+use crate::match_pitch::{friction_starts, harmonic_presearch, tone, tune_size, with_turning};
 use crate::match_search::{
-    judge, noise_bar, own_spectrum_goal, search, Judged, Plan, Target, BRIGHTNESS_GOAL,
-    BRIGHTNESS_WEIGHT, MIN_BRIGHTNESS,
+    judge, noise_bar, own_spectrum_goal, refine_winner, search, Judged, Plan, Target,
+    BRIGHTNESS_GOAL, BRIGHTNESS_WEIGHT, MIN_BRIGHTNESS,
 };
 use crate::match_space::{action_cue, action_name, dims, restarts_for, with_restart, RESTARTS};
 use crate::match_start::{estimate, starts};
@@ -252,7 +252,11 @@ pub fn run(args: &MatchArgs) -> Result<(String, u8), CliError> {
             friction_starts(t.pitch_hz, fs)
                 .iter()
                 .flat_map(|p| {
-                    harmonic_presearch(p, &target.reference.spectrum, t.pitch_hz, fs, top)
+                    with_turning(
+                        harmonic_presearch(p, &target.reference.spectrum, t.pitch_hz, fs, top),
+                        t.pitch_hz,
+                        fs,
+                    )
                 })
                 .collect()
         })
@@ -284,6 +288,8 @@ pub fn run(args: &MatchArgs) -> Result<(String, u8), CliError> {
             }
         }
     }
+    // Its body EQ refined on what the one-pass curve leaves (`refine_winner`).
+    let best = refine_winner(&target, &best, &plan.seeds);
     // Validation: the winner through its own curve at seeds the search never heard.
     let validation: Judged = judge(&target, &best.params, &VALIDATION_SEEDS, Some(&best.curve));
     let matched = validation.comparisons.len() == VALIDATION_SEEDS.len()

@@ -372,6 +372,30 @@ pub fn harmonic_presearch(
     }
 }
 
+/// Each friction start on a shell twice: as kept, and with the contact going round the rim
+/// (`trajectory` circle), so the sung mode's pattern turns with it and a fixed microphone
+/// hears it throb 2n times a turn (docs/MODEL.md §7b, "The pattern turns with the finger"; the rate then follows the rubbing
+/// speed and the searched position's radius), sized again to sing at `pitch_hz` (rendered
+/// at `fs`). The screening keeps whichever the recording is closer to: a finger circling a
+/// glass, or a bow or a finger held in one place.
+pub fn with_turning(starts: Vec<Params>, pitch_hz: f64, fs: f64) -> Vec<Params> {
+    let mut out = Vec::with_capacity(2 * starts.len());
+    for p in starts {
+        out.push(p);
+        if p.shape() == trundle_dsp::params::Shape::Shell {
+            let mut q = p;
+            // Turning, every pair couples at full weight: the contact may lock onto another
+            // mode, so the copy is sized again (dropped if it sings no mode on the pitch).
+            if q.set_text("trajectory", "circle").is_ok() {
+                if let Some(q) = tune_size(&q, pitch_hz, fs) {
+                    out.push(q);
+                }
+            }
+        }
+    }
+    out
+}
+
 fn dim(key: &str, lo: f64, hi: f64, log: bool) -> Option<Dim> {
     let spec = spec_by_key(key)?;
     let (lo, hi) = (lo.max(spec.min), hi.min(spec.max));
@@ -389,9 +413,10 @@ fn dim(key: &str, lo: f64, hi: f64, log: bool) -> Option<Dim> {
 /// velocity, so the 1.5× brightness check stays in range), where on the object it rubs, its
 /// decay, its material (how fast its upper modes die against the one that sings) and the
 /// output gain. With `textures` (a start the tone alone leaves far from the recording, see
-/// [`TEXTURE_LOSS`]) also the squeak's noise floor (`micro`, `micro_tone`) and a periodic
-/// swell (`strokes`, `stroke_rate_hz`: a finger circling past the microphone, a bow's
-/// strokes). Shape and rubbing body are the restart's (choices); the object's size is not
+/// [`TEXTURE_LOSS`]) also the squeak's noise floor (`micro`, `micro_tone`), a periodic
+/// swell (`strokes`, `stroke_rate_hz`: a bow's strokes) and the hand's wander of speed and
+/// pressure (`wander`: a finger circling a rim never turns back, its speed drifts). Shape,
+/// trajectory and rubbing body are the restart's (choices); the object's size is not
 /// searched but set by the pitch ([`tune_size`], again on the winner: the spectrum
 /// measure's third-octave bands cannot see a 3 % detuning, so a searched size drifted off
 /// the pitch); the signal model's other controls are not searched.
@@ -413,6 +438,7 @@ pub fn friction_dims(p: &Params, textures: bool) -> Vec<Dim> {
             ("micro_tone", -1.0, 1.0, false),
             ("strokes", 0.0, 1.0, false),
             ("stroke_rate_hz", 0.3, 8.0, true),
+            ("wander", 0.0, 1.0, false),
         ]);
     }
     keys.push(("gain_db", -12.0, 12.0, false));
@@ -577,12 +603,38 @@ mod tests {
         ] {
             assert!(plain.contains(&k) && rich.contains(&k), "{k}");
         }
-        for k in ["micro", "micro_tone", "strokes", "stroke_rate_hz"] {
+        for k in ["micro", "micro_tone", "strokes", "stroke_rate_hz", "wander"] {
             assert!(!plain.contains(&k) && rich.contains(&k), "{k}");
         }
         for d in friction_dims(&p, true) {
             let s = d.id.spec();
             assert!(s.min <= d.lo && d.lo < d.hi && d.hi <= s.max, "{}", s.key);
+        }
+    }
+
+    /// Each friction start on a shell is also tried going round the rim, sized again so it
+    /// still sings on the pitch (turning, every pair couples at full weight); a plate's is
+    /// not.
+    #[test]
+    fn a_shell_start_is_also_tried_going_round() {
+        let fs = 24_000.0;
+        let starts = friction_starts(600.0, fs);
+        let shells = starts
+            .iter()
+            .filter(|p| p.shape() == trundle_dsp::params::Shape::Shell)
+            .count();
+        assert!(shells > 0);
+        let all = with_turning(starts.clone(), 600.0, fs);
+        let round: Vec<&Params> = all
+            .iter()
+            .filter(|p| p.trajectory() == trundle_dsp::params::Trajectory::Circle)
+            .collect();
+        assert_eq!(all.len(), starts.len() + round.len());
+        assert!(!round.is_empty() && round.len() <= shells);
+        for p in round {
+            assert_eq!(p.shape(), trundle_dsp::params::Shape::Shell);
+            let f = sung_pitch_hz(p, fs).unwrap();
+            assert!((f / 600.0 - 1.0).abs() < 0.01, "{f}");
         }
     }
 

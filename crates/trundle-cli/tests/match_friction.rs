@@ -39,8 +39,10 @@ fn peak_hz(path: &std::path::Path, lo: f64, hi: f64) -> f64 {
 }
 
 /// The round trip of a sung glass: `sets` on the wine-glass preset at `seed`, its steady
-/// song 2 s after a 1 s onset (a recording of a rub is taken in its middle, where it has
-/// settled), matched at the default budget; the preset found, rendered at two seeds neither
+/// song 2 s after a 1.5 s onset (a recording of a rub is taken in its middle, where it has
+/// settled: a finger set down over 0.1 s, `physics::friction::TOUCH_S`, squeals on the way
+/// to its lock until ~1.3 s on the larger glass below, 0.5 s later than one set down at
+/// full pressure at once), matched at the default budget; the preset found, rendered at two seeds neither
 /// the target nor the search (1, 2) used, the same stretch, is on the pitch, within all four
 /// limits through its body EQ, and within `own_bar_db` with no EQ.
 fn sung_round_trip(name: &str, sets: &[&str], seed: &str, own_bar_db: f64) {
@@ -52,9 +54,9 @@ fn sung_round_trip(name: &str, sets: &[&str], seed: &str, own_bar_db: f64) {
         "--seed",
         seed,
         "--seconds",
-        "3",
+        "3.5",
     ];
-    render_stretch(dir, &target_args, sets, "target.wav", 1.0, 2.0);
+    render_stretch(dir, &target_args, sets, "target.wav", 1.5, 2.0);
     let (r, code) = matched(dir, &["--seconds", "2"]);
     println!("{r:#}");
     assert!(code == 0 || code == 3, "{r:#}");
@@ -66,8 +68,8 @@ fn sung_round_trip(name: &str, sets: &[&str], seed: &str, own_bar_db: f64) {
         let (eq, own) = (format!("eq{seed}.wav"), format!("own{seed}.wav"));
         for (file, amount) in [(&eq, "1"), (&own, "0")] {
             let body_eq = format!("body_eq={amount}");
-            let args = ["--preset", "m.json", "--seed", seed, "--seconds", "3"];
-            render_stretch(dir, &args, &[&body_eq], file, 1.0, 2.0);
+            let args = ["--preset", "m.json", "--seed", seed, "--seconds", "3.5"];
+            render_stretch(dir, &args, &[&body_eq], file, 1.5, 2.0);
         }
         let c = json(dir, &["compare", "target.wav", &eq, "--json"]);
         let own_c = json(dir, &["compare", "target.wav", &own, "--json"]);
@@ -93,6 +95,7 @@ fn sung_round_trip(name: &str, sets: &[&str], seed: &str, own_bar_db: f64) {
 /// at both seeds since the search moves the material too (3.6 before; 11.6 before the
 /// harmonic pre-search and the tonal weighting of the own spectrum), modulation 2.8–3.0 dB
 /// at the validation seeds (1.5–2.0 before the material: the margin this test has left).
+/// Since the touch-down and the 1.5 s onset: own spectrum 1.7 dB.
 #[test]
 fn a_sung_glass_is_matched_by_friction_on_its_pitch() {
     let sets = [
@@ -107,7 +110,7 @@ fn a_sung_glass_is_matched_by_friction_on_its_pitch() {
 /// A second glass, unseen while the pre-search was built: larger (it sings lower), a firmer
 /// touch drawn faster, touched near the far edge, another seed. Measured: all four measures
 /// at the validation seeds (modulation 1.3 dB; 2.1–2.9 before the material was searched),
-/// the model's own spectrum 4.8 dB (4.6).
+/// the model's own spectrum 4.8 dB (4.6); since the touch-down and the 1.5 s onset 3.8 dB.
 #[test]
 fn a_larger_glass_touched_near_its_edge_is_matched_too() {
     let sets = [
