@@ -267,21 +267,30 @@ fn the_contact_allocates_nothing_while_it_plays() {
 #[test]
 fn the_extremes_do_not_run_away() {
     // The heaviest press, the fastest stroke, every body, the longest-ringing glass (decay
-    // ×30): two seconds at 384 kHz and at 8 kHz; the last half second is no louder than
-    // 1.5× the half second before (a bounded, steady contact), every sample finite.
+    // ×30), held and (a finger) going round the rim: two seconds at 384 kHz and at 8 kHz; the
+    // last half second is no louder than 1.5× the half second before (a bounded, steady
+    // contact), every sample finite.
     for fs in [8_000.0, 384_000.0] {
-        for body in ["finger", "rubber", "chalk", "steel", "rosin"] {
+        for (body, path) in [
+            ("finger", "manual"),
+            ("rubber", "manual"),
+            ("chalk", "manual"),
+            ("steel", "manual"),
+            ("rosin", "manual"),
+            ("finger", "circle"),
+        ] {
             let mut p = glass_at(20.0, 1.0);
             p.set_text("rub_body", body).unwrap();
+            p.set_text("trajectory", path).unwrap();
             p.set(ParamId::Decay, 30.0).unwrap();
             let x = render(&p, fs, 2.0, 0.0);
-            assert!(x.iter().all(|v| v.is_finite()), "{body} at {fs}");
+            assert!(x.iter().all(|v| v.is_finite()), "{body} {path} at {fs}");
             let q = (0.5 * fs) as usize;
             let peak = |a: &[f32]| a.iter().fold(0f32, |m, v| m.max(v.abs()));
             let (before, last) = (peak(&x[2 * q..3 * q]), peak(&x[3 * q..]));
             assert!(
                 last <= 1.5 * before + 1e-6 && last < BOUND,
-                "{body} at {fs}: {before} then {last}"
+                "{body} {path} at {fs}: {before} then {last}"
             );
         }
     }
@@ -306,6 +315,7 @@ proptest! {
         mx in -1.0f64..=1.0,
         fs_i in 0usize..5,
         big_block in any::<bool>(),
+        trajectory in 0usize..6,
     ) {
         let fs = [8_000.0, 44_100.0, 48_000.0, 96_000.0, 384_000.0][fs_i];
         let mut p = Params::default();
@@ -316,6 +326,8 @@ proptest! {
         p.set(ParamId::ObjectSize, size).unwrap();
         p.set(ParamId::Shape, shape as f64).unwrap();
         p.set(ParamId::MaterialX, mx).unwrap();
+        // A travelling contact turns a shell's pairs (`object::resonator::turn`).
+        p.set(ParamId::Trajectory, trajectory as f64).unwrap();
         p.set_text("limiter", "off").unwrap();
         let mut v = Voice::new(fs, &p);
         let block = if big_block { 8192 } else { 1 };
