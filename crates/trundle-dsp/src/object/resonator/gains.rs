@@ -168,22 +168,18 @@ impl Object {
         let turning = self.turn.on && shape == Shape::Shell;
         self.turn_pairs(turning, n);
         if turning {
-            // Each turning pair: its share of the level law is its mean square over a turn,
-            // ⟨(½·(b_L·c_L + b_R·c_R))²⟩ = (b_L² + b_R²)/8 + b_L·b_R·cos(n·(θ_L − θ_R))/4
-            // (module `turn`); the gain the contact reads (`modes`, the friction's weights)
+            // Each turning pair: its share of the level law is its mid's mean square over a
+            // turn (module `turn`); the gain the contact reads (`modes`, the friction's weights)
             // is the static pair's at its best angle, a·|(m_cos, m_sin)| with m the members'
             // mid pickups, the same wherever the contact is.
             let [bl, br] = self.balance;
-            let table = self.tables.modes(shape);
             for j in 0..self.turn.len {
                 let k = self.turn.slot[j];
                 if !self.turn_member[k].lower() {
                     continue;
                 }
-                let (lo, up) = (&table[k], &table[k + 1]);
-                let (pl, pr) = (&self.pick_shapes[0], &self.pick_shapes[1]);
-                let cos_lr = pl.phi(lo) * pr.phi(lo) + pl.phi(up) * pr.phi(up);
-                let mean_sq = 0.125 * (bl * bl + br * br) + 0.25 * bl * br * cos_lr;
+                // The mid's mean square over a turn: ⟨(b·cos(n·(θ_listen − θ_c)))²⟩ = b²/2.
+                let mean_sq = 0.125 * (bl + br) * (bl + br);
                 let a = self.amp[k];
                 let mid = |q: [f64; 2]| 0.5 * (q[0] + q[1]);
                 let x = a * mid(self.pick[k]).hypot(mid(self.pick[k + 1]));
@@ -342,6 +338,12 @@ impl Object {
             }
             return;
         }
+        let (lx, ly) = (self.listen_x.value(), self.listen_y.value());
+        let listen_angle = if lx == 0.0 && ly == 0.0 {
+            0.0
+        } else {
+            ly.atan2(lx)
+        };
         let mut j = 0;
         let mut k = 0;
         while k + 1 < n.min(table.len()) && j < TURN_PAIRS_MAX {
@@ -357,14 +359,21 @@ impl Object {
             self.turn.order[j] = a.m;
             self.turn_member[k] = TurnMember::Lower(j as u16);
             self.turn_member[k + 1] = TurnMember::Upper;
-            // The pattern's value at each pickup: cos(n·(θ_pickup − θ_contact)).
-            let at = |p: &PositionShapes| {
-                p.phi(a) * self.ball_shapes.phi(a) + p.phi(b) * self.ball_shapes.phi(b)
+            // The mid hears the pattern at the listening point, cos(n·(θ_listen − θ_contact));
+            // the side pans it by how the two pickups hear it, |c_L| against |c_R| (one
+            // sign for both channels: two pickups a quarter turn apart hear an n = 2
+            // pattern in opposite phase, and their mono sum cancelled 20 dB).
+            let (sn, cn) = (f64::from(a.m) * listen_angle).sin_cos();
+            let (cc, sc) = (self.ball_shapes.phi(a), self.ball_shapes.phi(b));
+            let mid = 0.5 * (self.balance[0] + self.balance[1]) * (cn * cc + sn * sc);
+            let at = |p: &PositionShapes| (p.phi(a) * cc + p.phi(b) * sc).abs();
+            let (cl, cr) = (at(&self.pick_shapes[0]), at(&self.pick_shapes[1]));
+            let pan = if cl + cr > 0.0 {
+                (cl - cr) / (cl + cr)
+            } else {
+                0.0
             };
-            let cl = self.balance[0] * at(&self.pick_shapes[0]);
-            let cr = self.balance[1] * at(&self.pick_shapes[1]);
-            let w = self.width.value();
-            self.turn.out_now[j] = (0.5 * (cl + cr), 0.5 * w * (cl - cr));
+            self.turn.out_now[j] = (mid, self.width.value() * pan * mid);
             j += 1;
             k += 2;
         }

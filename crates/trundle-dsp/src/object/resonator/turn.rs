@@ -18,14 +18,18 @@
 //! sharp as the contact's motion:
 //!
 //! ```text
-//! zⱼ[n] = aⱼ·N·x[n] + pⱼ·zⱼ[n−1],   mid += ½·(b_L·c_L + b_R·c_R)·Im zⱼ,
-//! side += ½·w·(b_L·c_L − b_R·c_R)·Im zⱼ,   c_{L,R} = cos(nⱼ·(θ_{L,R} − θ_c))
+//! zⱼ[n] = aⱼ·N·x[n] + pⱼ·zⱼ[n−1],   mid += b·cₘ·Im zⱼ,   side += w·d·b·cₘ·Im zⱼ,
+//! cₘ = cos(nⱼ·(θₘ − θ_c)),   d = (|c_L| − |c_R|)/(|c_L| + |c_R|),   c_{L,R} = cos(nⱼ·(θ_{L,R} − θ_c))
 //! ```
 //!
-//! (aⱼ the pair's amplitude, N the object's level normalization, b_{L,R} the pickups'
-//! balance, w the width; the gains glide linearly across each chunk). The pair's share of
-//! the level law is its mean square over a turn, so the loudness does not follow the angle;
-//! the gain the friction contact reads is the static pair's at its best angle
+//! (aⱼ the pair's amplitude, N the object's level normalization, b the pickups' mean
+//! balance, θₘ the listening point's angle, w the width; the gains glide linearly across
+//! each chunk). The mid is the pattern at the listening point; the side pans it by how the
+//! two pickups hear it, with one sign for both channels, so the mono sum never cancels (two
+//! pickups a quarter turn apart hear an n = 2 pattern in opposite phase: heard with their
+//! own signs, the wine glass going round lost 20 dB in mono). The pair's share of the level
+//! law is the mid's mean square over a turn, b²/2, so the loudness does not follow the
+//! angle; the gain the friction contact reads is the static pair's at its best angle
 //! ([`Object::modes`]). The bank's two slots get no input and ring out. Runs in f64, one
 //! complex one-pole per ring order: ~10 flops per pair·sample, beside the bank's SIMD
 //! lanes.
