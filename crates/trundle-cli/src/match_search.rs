@@ -285,14 +285,15 @@ pub fn refined_curve(target: &Target, renders: &[Vec<f64>], mut curve: EqCurve) 
 }
 
 /// The winner `best` judged again at `seeds` through its refined body EQ
-/// ([`refined_curve`]): two renders per seed more, once per match.
+/// ([`refined_curve`]): one render per seed more (the same renders refine the curve and are
+/// judged through it), once per match.
 pub fn refine_winner(target: &Target, best: &Judged, seeds: &[u32]) -> Judged {
     let renders: Vec<Vec<f64>> = seeds
         .iter()
         .map(|&s| render(target, &best.params, s))
         .collect();
     let curve = refined_curve(target, &renders, best.curve.clone());
-    let refined = judge(target, &best.params, seeds, Some(&curve));
+    let refined = judge_renders(target, &best.params, seeds, renders, Some(&curve));
     // Judged with a curve given, the loss weighs the brightness check whatever the action;
     // the refined curve is kept when it is no worse by the measures themselves.
     let worst = |j: &Judged| {
@@ -311,7 +312,18 @@ pub fn refine_winner(target: &Target, best: &Judged, seeds: &[u32]) -> Judged {
 /// Judge `params` at `seeds` through the body EQ of the seeds' mean spectrum (`curve`:
 /// through that curve instead, e.g. a match's at new seeds).
 pub fn judge(target: &Target, params: &Params, seeds: &[u32], curve: Option<&EqCurve>) -> Judged {
-    let mut renders: Vec<Vec<f64>> = seeds.iter().map(|&s| render(target, params, s)).collect();
+    let renders: Vec<Vec<f64>> = seeds.iter().map(|&s| render(target, params, s)).collect();
+    judge_renders(target, params, seeds, renders, curve)
+}
+
+/// [`judge`] on `renders`, the renders of `params` at `seeds` already made.
+fn judge_renders(
+    target: &Target,
+    params: &Params,
+    seeds: &[u32],
+    mut renders: Vec<Vec<f64>>,
+    curve: Option<&EqCurve>,
+) -> Judged {
     let spectra = spectra_of(target, &renders);
     let own_spectrum_db = own_spectrum_db(target, &spectra);
     let checked = checks_brightness(params, curve);

@@ -10,32 +10,14 @@ mod common;
 use common::{matched, render_stretch};
 use trundle_test_support::cli::json;
 use trundle_test_support::scratch::scratch;
+use trundle_test_support::spectrum::{self, magnitude};
+use trundle_test_support::wav::read_wav_mono;
 
 /// The strongest spectral peak (Hz) of a mono WAV between `lo` and `hi` Hz: Hann window
 /// over the whole file, parabola through the log magnitudes (0.5 Hz bins over 2 s).
 fn peak_hz(path: &std::path::Path, lo: f64, hi: f64) -> f64 {
-    let mut r = hound::WavReader::open(path).unwrap();
-    let fs = f64::from(r.spec().sample_rate);
-    let x: Vec<f64> = match r.spec().sample_format {
-        hound::SampleFormat::Float => r.samples::<f32>().map(|s| f64::from(s.unwrap())).collect(),
-        hound::SampleFormat::Int => r.samples::<i32>().map(|s| f64::from(s.unwrap())).collect(),
-    };
-    let n = x.len();
-    let fft = realfft::RealFftPlanner::<f64>::new().plan_fft_forward(n);
-    let mut buf: Vec<f64> = x
-        .iter()
-        .enumerate()
-        .map(|(i, v)| v * (0.5 - 0.5 * (std::f64::consts::TAU * i as f64 / n as f64).cos()))
-        .collect();
-    let mut out = fft.make_output_vec();
-    fft.process(&mut buf, &mut out).unwrap();
-    let s: Vec<f64> = out.iter().map(|c| c.norm().max(1e-300)).collect();
-    let df = fs / n as f64;
-    let k = ((lo / df) as usize..(hi / df) as usize)
-        .max_by(|&a, &b| s[a].total_cmp(&s[b]))
-        .unwrap();
-    let (l, c, r) = (s[k - 1].ln(), s[k].ln(), s[k + 1].ln());
-    (k as f64 + 0.5 * (l - r) / (l - 2.0 * c + r)) * df
+    let (x, fs) = read_wav_mono(path);
+    spectrum::peak_hz(&magnitude(&x), fs / x.len() as f64, lo, hi).0
 }
 
 /// The round trip of a sung glass: `sets` on the wine-glass preset at `seed`, its steady

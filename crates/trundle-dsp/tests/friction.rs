@@ -10,33 +10,15 @@
 //! * `friction = 0` is the old sound bit for bit, and the voice allocates nothing.
 
 use proptest::prelude::*;
-use realfft::RealFftPlanner;
 use trundle_dsp::object::resonator::Object;
 use trundle_dsp::physics::friction::{contact_mass_kg, Friction};
 use trundle_dsp::physics::friction_body::FrictionBody;
 use trundle_dsp::scene::voice::object_controls;
 use trundle_dsp::{ParamId, Params, Voice};
+use trundle_test_support::scene::{render_at, wine_glass};
+use trundle_test_support::spectrum::{fundamental_hz, magnitude, peak_hz};
 
 const FS: f64 = 48_000.0;
-
-/// A wine glass: a glass shell of 15 cm (first mode 667 Hz), friction alone.
-fn glass() -> Params {
-    let mut p = Params::default();
-    for (k, v) in [
-        ("shape", "shell"),
-        ("material_x", "-0.5"),
-        ("material_y", "-0.866"),
-        ("object_size", "0.15"),
-        ("friction", "1"),
-        ("rub_body", "finger"),
-        ("pressure_n", "1"),
-        ("velocity", "0.2"),
-        ("limiter", "off"),
-    ] {
-        p.set_text(k, v).unwrap();
-    }
-    p
-}
 
 /// The object's explicit modes for `p` at `fs`.
 fn object_modes(p: &Params, fs: f64) -> Vec<(f64, f64)> {
@@ -60,63 +42,9 @@ fn contact(p: &Params, fs: f64) -> Friction {
     f
 }
 
-/// Magnitude spectrum of `x` (Hann window), bin width fs/len.
-fn spectrum(x: &[f32]) -> Vec<f64> {
-    let n = x.len();
-    let mut planner = RealFftPlanner::<f64>::new();
-    let fft = planner.plan_fft_forward(n);
-    let mut input: Vec<f64> = x
-        .iter()
-        .enumerate()
-        .map(|(i, &v)| {
-            let w = 0.5 - 0.5 * (2.0 * std::f64::consts::PI * i as f64 / n as f64).cos();
-            f64::from(v) * w
-        })
-        .collect();
-    let mut out = fft.make_output_vec();
-    fft.process(&mut input, &mut out).unwrap();
-    out.iter().map(|c| c.norm()).collect()
-}
-
-/// The strongest spectral peak's frequency between `lo` and `hi` Hz (parabolic interpolation).
-fn peak_hz(spec: &[f64], n: usize, fs: f64, lo: f64, hi: f64) -> (f64, f64) {
-    let df = fs / n as f64;
-    let (a, b) = (
-        (lo / df) as usize + 1,
-        ((hi / df) as usize).min(spec.len() - 2),
-    );
-    let k = (a..=b)
-        .max_by(|&i, &j| spec[i].partial_cmp(&spec[j]).unwrap())
-        .unwrap();
-    let (l, c, r) = (spec[k - 1].ln(), spec[k].ln(), spec[k + 1].ln());
-    let d = 0.5 * (l - r) / (l - 2.0 * c + r);
-    ((k as f64 + d) * df, spec[k])
-}
-
-/// The fundamental: the lowest local spectral peak above `lo` Hz within 20 dB of the
-/// strongest peak below `hi` Hz (parabolic interpolation), and that peak's magnitude.
-fn fundamental_hz(spec: &[f64], n: usize, fs: f64, lo: f64, hi: f64) -> (f64, f64) {
-    let (_, top) = peak_hz(spec, n, fs, lo, hi);
-    let df = fs / n as f64;
-    let (a, b) = (
-        (lo / df) as usize + 1,
-        ((hi / df) as usize).min(spec.len() - 2),
-    );
-    let k = (a..=b)
-        .find(|&k| spec[k] >= 0.1 * top && spec[k] >= spec[k - 1] && spec[k] >= spec[k + 1])
-        .unwrap_or(a);
-    let (l, c, r) = (spec[k - 1].ln(), spec[k].ln(), spec[k + 1].ln());
-    let d = 0.5 * (l - r) / (l - 2.0 * c + r);
-    ((k as f64 + d) * df, spec[k])
-}
-
 /// The mono output of `p` for `seconds`, the first `skip_s` dropped (the onset).
 fn render(p: &Params, fs: f64, seconds: f64, skip_s: f64) -> Vec<f32> {
-    let mut v = Voice::new(fs, p);
-    let n = (seconds * fs) as usize;
-    let mut out = vec![0f32; n];
-    v.process(&mut out);
-    out[(skip_s * fs) as usize..].to_vec()
+    render_at(fs, p, seconds)[(skip_s * fs) as usize..].to_vec()
 }
 
 /// The index of the object's mode nearest `f_hz` and the relative distance to it.
@@ -130,7 +58,7 @@ fn nearest_mode(modes: &[(f64, f64)], f_hz: f64) -> (usize, f64) {
 
 /// The glass at pressure `n` newtons and speed `v` m/s.
 fn glass_at(n: f64, v: f64) -> Params {
-    let mut p = glass();
+    let mut p = wine_glass();
     p.set(ParamId::PressureN, n).unwrap();
     p.set(ParamId::Velocity, v).unwrap();
     p
@@ -139,8 +67,8 @@ fn glass_at(n: f64, v: f64) -> Params {
 /// The fundamental of the voice's sound (1.5 s after a 1.5 s onset) and the spectrum.
 fn sung(p: &Params) -> (f64, Vec<f64>, usize) {
     let x = render(p, FS, 3.0, 1.5);
-    let s = spectrum(&x);
-    let (f, _) = fundamental_hz(&s, x.len(), FS, 200.0, 8_000.0);
+    let s = magnitude(&x);
+    let (f, _) = fundamental_hz(&s, FS / x.len() as f64, 200.0, 8_000.0);
     (f, s, x.len())
 }
 
@@ -164,7 +92,7 @@ fn a_rubbed_glass_sings_on_one_of_its_modes_with_harmonic_partials() {
     let df = FS / n as f64;
     for h in [2.0, 3.0] {
         let target = h * f0;
-        let (fh, mag) = peak_hz(&s, n, FS, 0.99 * target, 1.01 * target);
+        let (fh, mag) = peak_hz(&s, FS / n as f64, 0.99 * target, 1.01 * target);
         let mut around: Vec<f64> =
             s[(0.95 * target / df) as usize..(1.05 * target / df) as usize].to_vec();
         around.sort_by(|a, b| a.partial_cmp(b).unwrap());
@@ -226,8 +154,8 @@ fn a_stick_slip_cycle_is_visible_in_the_relative_velocity() {
         stretches += usize::from(st && !was_stuck);
         was_stuck = st;
     }
-    let spec = spectrum(&force);
-    let (f0, _) = fundamental_hz(&spec, n, FS, 200.0, 8_000.0);
+    let spec = magnitude(&force);
+    let (f0, _) = fundamental_hz(&spec, FS / n as f64, 200.0, 8_000.0);
     let periods = f0 * 0.2;
     let (stuck, slipping) = (stuck as f64 / n as f64, slipping as f64 / n as f64);
     assert!(

@@ -3,11 +3,11 @@
 //! friction contact alone) at 8, 22.05, 44.1, 48, 96, 192 and 384 kHz sings on the same mode
 //! of the glass, its fundamental within 1 % of that mode's frequency at every rate.
 
-use realfft::RealFftPlanner;
 use trundle_dsp::object::resonator::Object;
 use trundle_dsp::scene::preset::Preset;
 use trundle_dsp::scene::voice::object_controls;
 use trundle_dsp::{Params, Voice};
+use trundle_test_support::spectrum::{fundamental_hz, magnitude};
 
 /// The rates a host may run the plugin at (the product's whole range, 8–384 kHz).
 const RATES_HZ: [f64; 7] = [
@@ -22,40 +22,6 @@ fn modes_hz(p: &Params, fs: f64) -> Vec<f64> {
         .filter(|m| m.gain != 0.0)
         .map(|m| m.freq_hz)
         .collect()
-}
-
-/// Magnitude spectrum of `x` (Hann window), bin width fs / len.
-fn spectrum(x: &[f32]) -> Vec<f64> {
-    let n = x.len();
-    let fft = RealFftPlanner::<f64>::new().plan_fft_forward(n);
-    let mut input: Vec<f64> = x
-        .iter()
-        .enumerate()
-        .map(|(i, &v)| {
-            let w = 0.5 - 0.5 * (std::f64::consts::TAU * i as f64 / n as f64).cos();
-            f64::from(v) * w
-        })
-        .collect();
-    let mut out = fft.make_output_vec();
-    fft.process(&mut input, &mut out).unwrap();
-    out.iter().map(|c| c.norm()).collect()
-}
-
-/// The fundamental (Hz): the lowest local peak above `lo_hz` within 20 dB of the strongest
-/// peak below `hi_hz`, refined by a parabola through the log magnitudes.
-fn fundamental_hz(x: &[f32], fs: f64, lo_hz: f64, hi_hz: f64) -> f64 {
-    let s = spectrum(x);
-    let df = fs / x.len() as f64;
-    let (a, b) = (
-        (lo_hz / df) as usize + 1,
-        ((hi_hz / df) as usize).min(s.len() - 2),
-    );
-    let top = s[a..=b].iter().cloned().fold(0.0, f64::max);
-    let k = (a..=b)
-        .find(|&k| s[k] >= 0.1 * top && s[k] >= s[k - 1] && s[k] >= s[k + 1])
-        .unwrap_or(a);
-    let (l, c, r) = (s[k - 1].ln(), s[k].ln(), s[k + 1].ln());
-    (k as f64 + 0.5 * (l - r) / (l - 2.0 * c + r)) * df
 }
 
 #[test]
@@ -75,7 +41,7 @@ fn the_wine_glass_sings_on_the_same_mode_at_every_rate() {
         let tail = &out[(1.0 * fs) as usize..];
         // Up to 3.5 kHz (under 8 kHz's Nyquist with the output filters' margin): the
         // glass's breathing mode is at ~677 Hz.
-        let f0 = fundamental_hz(tail, fs, 200.0, 3_500.0);
+        let f0 = fundamental_hz(&magnitude(tail), fs / tail.len() as f64, 200.0, 3_500.0).0;
         let modes = modes_hz(&p, fs);
         let (k, err) = modes
             .iter()

@@ -13,65 +13,23 @@
 use realfft::RealFftPlanner;
 use std::f64::consts::PI;
 use trundle_dsp::{ParamId, Params, Voice};
+use trundle_test_support::scene::{render, wine_glass, FS};
+use trundle_test_support::spectrum::{magnitude, peak_hz};
 
-const FS: f64 = 48_000.0;
-
-/// A wet finger on a 15 cm wine glass (light touch, 10 cm/s), at (0.3, 0.2), friction
-/// alone, travelling `trajectory`.
+/// The wine glass (`scene::wine_glass`) under a light, slow finger (0.1 N, 10 cm/s) at
+/// (0.3, 0.2), travelling `trajectory`.
 fn glass(trajectory: &str) -> Params {
-    let mut p = Params::default();
+    let mut p = wine_glass();
     for (k, v) in [
-        ("shape", "shell"),
-        ("material_x", "-0.5"),
-        ("material_y", "-0.866"),
-        ("object_size", "0.15"),
-        ("friction", "1"),
-        ("rub_body", "finger"),
         ("pressure_n", "0.1"),
         ("velocity", "0.1"),
         ("position_x", "0.3"),
         ("position_y", "0.2"),
-        ("limiter", "off"),
         ("trajectory", trajectory),
     ] {
         p.set_text(k, v).unwrap();
     }
     p
-}
-
-/// The mono output of `p` for `seconds`.
-fn render(p: &Params, seconds: f64) -> Vec<f32> {
-    let mut v = Voice::new(FS, p);
-    let mut out = vec![0f32; (seconds * FS) as usize];
-    v.process(&mut out);
-    out
-}
-
-/// Power spectrum of `x` (Hann window); bin width FS/len.
-fn power(x: &[f64]) -> Vec<f64> {
-    let n = x.len();
-    let fft = RealFftPlanner::<f64>::new().plan_fft_forward(n);
-    let mut input: Vec<f64> = x
-        .iter()
-        .enumerate()
-        .map(|(i, &v)| v * (0.5 - 0.5 * (2.0 * PI * i as f64 / n as f64).cos()))
-        .collect();
-    let mut out = fft.make_output_vec();
-    fft.process(&mut input, &mut out).unwrap();
-    out.iter().map(|c| c.norm_sqr()).collect()
-}
-
-/// The strongest peak between `lo` and `hi` (in units of `df` per bin), interpolated.
-fn peak(spec: &[f64], df: f64, lo: f64, hi: f64) -> f64 {
-    let (a, b) = (
-        (lo / df) as usize + 1,
-        ((hi / df) as usize).min(spec.len() - 2),
-    );
-    let k = (a..=b)
-        .max_by(|&i, &j| spec[i].total_cmp(&spec[j]))
-        .unwrap();
-    let (l, c, r) = (spec[k - 1].ln(), spec[k].ln(), spec[k + 1].ln());
-    (k as f64 + 0.5 * (l - r) / (l - 2.0 * c + r)) * df
 }
 
 /// The tone's envelope: 5 ms frames' RMS of the output after a one-octave band-pass round
@@ -107,8 +65,7 @@ fn percentile(v: &[f64], q: f64) -> f64 {
 
 /// The sung fundamental (Hz) of `x`.
 fn sung_hz(x: &[f32]) -> f64 {
-    let v: Vec<f64> = x.iter().map(|&s| f64::from(s)).collect();
-    peak(&power(&v), FS / v.len() as f64, 200.0, 4_000.0)
+    peak_hz(&magnitude(x), FS / x.len() as f64, 200.0, 4_000.0).0
 }
 
 #[test]
@@ -136,7 +93,7 @@ fn a_finger_going_round_makes_the_tone_throb_2n_times_a_turn() {
     let mean = lin.iter().sum::<f64>() / lin.len() as f64;
     let centred: Vec<f64> = lin.iter().map(|x| x - mean).collect();
     let rate_hz = 1.0 / 0.005;
-    let throb_hz = peak(&power(&centred), rate_hz / lin.len() as f64, 0.5, 20.0);
+    let (throb_hz, _) = peak_hz(&magnitude(&centred), rate_hz / lin.len() as f64, 0.5, 20.0);
     // ±8 %: the envelope spectrum's resolution is 0.12 Hz (8.5 s), ~5 % of the rate, and
     // the turning gains glide per 64-sample chunk.
     assert!(

@@ -10,6 +10,7 @@
 //! * [`scratch`]: scratch folders, removed when the test passes.
 //! * [`wav`]: WAV files written from and read back as samples at ±1 full scale.
 //! * [`stats`]: mean and deviation, a least-squares line.
+//! * [`spectrum`]: a take's Hann-windowed line spectrum and its peaks (a pitch, a rate).
 //! * [`levels`]: peak and RMS levels, channels of interleaved frames.
 //! * [`cli`]: the `trundle` binary, run in a folder, and what it printed.
 //! * [`tree`]: the repository's own files (sources, doc pages) for the layout and docs tests.
@@ -33,6 +34,7 @@ pub mod levels;
 pub mod scene;
 pub mod scratch;
 pub mod soundfont;
+pub mod spectrum;
 pub mod stats;
 pub mod strike_corpus;
 pub mod strike_judge;

@@ -10,6 +10,27 @@ use trundle_dsp::{Params, Voice};
 /// The sample rate of the tests' scenes (Hz).
 pub const FS: f64 = 48_000.0;
 
+/// A wet finger on a wine glass: a glass shell of 15 cm (first mode 667 Hz) rubbed by
+/// the friction contact alone (docs/MODEL.md §7b), at 1 N and 0.2 m/s, the limiter off
+/// (the friction tests measure the contact, not the output stage).
+pub fn wine_glass() -> Params {
+    let mut p = Params::default();
+    for (k, v) in [
+        ("shape", "shell"),
+        ("material_x", "-0.5"),
+        ("material_y", "-0.866"),
+        ("object_size", "0.15"),
+        ("friction", "1"),
+        ("rub_body", "finger"),
+        ("pressure_n", "1"),
+        ("velocity", "0.2"),
+        ("limiter", "off"),
+    ] {
+        p.set_text(k, v).expect("a valid control");
+    }
+    p
+}
+
 /// `seconds` of `params` at [`FS`], mono, rendered in one call.
 pub fn render(params: &Params, seconds: f64) -> Vec<f32> {
     render_at(FS, params, seconds)

@@ -396,11 +396,6 @@ impl Object {
         }
     }
 
-    /// True while a shell's standing waves turn with the contact.
-    pub fn turning(&self) -> bool {
-        self.turn.on && self.shape == Shape::Shell && self.loaded.is_none()
-    }
-
     /// Set the control targets (continuous ones are smoothed; shape and mode count apply at
     /// the next chunk).
     pub fn set_controls(&mut self, c: ObjectControls) {

@@ -18,12 +18,6 @@ pub(super) enum TurnMember {
     Upper,
 }
 
-impl TurnMember {
-    pub(super) fn lower(self) -> bool {
-        matches!(self, TurnMember::Lower(_))
-    }
-}
-
 impl Object {
     /// Set bank slot `k`'s complex input gain g + i·h and side weight, wherever it runs.
     pub(super) fn set_slot_gains(&mut self, k: usize, g: f64, h: f64, d: f64) {
@@ -112,11 +106,15 @@ impl Object {
     /// the level normalization; culling.
     pub(super) fn update_gains(&mut self) {
         let shape = self.shape;
-        let table = self.tables.modes(shape);
         let upto = self.pick_shapes[0].evaluated().saturating_sub(1);
         self.ball_shapes.set(shape, self.ball, upto);
+        let n = self.modes.min(self.tables.modes(shape).len());
+        self.turn_pairs(self.turn.on && shape == Shape::Shell, n);
+        let table = self.tables.modes(shape);
         let w = self.width.value();
-        let n = self.modes.min(table.len());
+        // The turning pairs' mid: the pickups' mean balance (module `turn`).
+        let [bl, br] = self.balance;
+        let turn_mid_sq = 0.125 * (bl + br) * (bl + br);
         // Pre-normalization mid gains, and the total mid energy E.
         let mut energy = 0.0;
         let mut loudest = 0.0f64;
@@ -126,6 +124,29 @@ impl Object {
                 self.info[k].gain = 0.0;
                 self.info[k].side = 0.0;
                 continue;
+            }
+            match self.turn_member[k] {
+                TurnMember::None => {}
+                TurnMember::Lower(_) => {
+                    // A turning pair: its share of the level law is its mid's mean square
+                    // over a turn, ⟨(b·cos(n·(θ_listen − θ_c)))²⟩ = b²/2 (module `turn`);
+                    // the gain the contact reads (`modes`, the friction's weights) is the
+                    // static pair's at its best angle, a·|(m_cos, m_sin)| with m the
+                    // members' mid pickups, the same wherever the contact is.
+                    let mid = |q: [f64; 2]| 0.5 * (q[0] + q[1]);
+                    let x = a * mid(self.pick[k]).hypot(mid(self.pick[k + 1]));
+                    self.info[k].gain = x;
+                    self.info[k].side = 0.0;
+                    energy += a * a * turn_mid_sq * self.info[k].decay_s;
+                    loudest = loudest.max(x * x * self.info[k].decay_s);
+                    continue;
+                }
+                TurnMember::Upper => {
+                    // Played by its pair's lower member.
+                    self.info[k].gain = 0.0;
+                    self.info[k].side = 0.0;
+                    continue;
+                }
             }
             let e = self.ball_shapes.phi(mode);
             let [ql, qr] = self.pick[k];
@@ -164,36 +185,6 @@ impl Object {
                 0.0
             };
             energy += em;
-        }
-        let turning = self.turn.on && shape == Shape::Shell;
-        self.turn_pairs(turning, n);
-        if turning {
-            // Each turning pair: its share of the level law is its mid's mean square over a
-            // turn (module `turn`); the gain the contact reads (`modes`, the friction's weights)
-            // is the static pair's at its best angle, a·|(m_cos, m_sin)| with m the members'
-            // mid pickups, the same wherever the contact is.
-            let [bl, br] = self.balance;
-            for j in 0..self.turn.len {
-                let k = self.turn.slot[j];
-                if !self.turn_member[k].lower() {
-                    continue;
-                }
-                // The mid's mean square over a turn: ⟨(b·cos(n·(θ_listen − θ_c)))²⟩ = b²/2.
-                let mean_sq = 0.125 * (bl + br) * (bl + br);
-                let a = self.amp[k];
-                let mid = |q: [f64; 2]| 0.5 * (q[0] + q[1]);
-                let x = a * mid(self.pick[k]).hypot(mid(self.pick[k + 1]));
-                for slot in [k, k + 1] {
-                    let old = self.info[slot].gain;
-                    energy -= old * old * self.info[slot].decay_s;
-                    self.info[slot].side = 0.0;
-                }
-                energy += a * a * mean_sq.max(0.0) * self.info[k].decay_s;
-                self.info[k].gain = x;
-                self.info[k + 1].gain = 0.0;
-                loudest = loudest.max(x * x * self.info[k].decay_s);
-            }
-            energy = energy.max(0.0);
         }
         self.normalize_and_cull(n, energy, loudest, self.n_high);
     }
