@@ -140,7 +140,35 @@ pub fn to_text(cmp: &Comparison, recording: &Path, candidate: &Path) -> String {
     {
         s += &format!("largest spectral difference: {d:+.1} dB at {c:.0} Hz\n");
     }
+    if let Some(m) = cmp.furthest_modulation() {
+        s += &format!(
+            "largest modulation difference: {:+.1} dB, {} band at {} Hz\n",
+            m.diff_db,
+            band_text(m.band_hz),
+            m.rate_hz
+        );
+    }
+    if let Some(t) = cmp.furthest_texture() {
+        let bands: Vec<String> = t.bands_hz.iter().map(|&b| band_text(b)).collect();
+        let levels: Vec<String> = t.levels_db.iter().map(|l| format!("{l:.0}")).collect();
+        s += &format!(
+            "largest texture gap: {} of the {} envelope{}, {:.2} vs {:.2} in the recording \
+             ({:+.1} units; {} dB re the recording's loudest band)\n",
+            t.kind,
+            bands.join(" and "),
+            if bands.len() > 1 { "s" } else { "" },
+            t.candidate,
+            t.recording,
+            t.deviation_units,
+            levels.join(" and ")
+        );
+    }
     s
+}
+
+/// An envelope band as text, "1125–2520 Hz".
+fn band_text((lo, hi): (f64, f64)) -> String {
+    format!("{lo:.0}–{hi:.0} Hz")
 }
 
 fn verdict_json(v: &Verdict) -> Value {
@@ -174,5 +202,18 @@ pub fn to_json(cmp: &Comparison) -> Value {
         "statistics": { "recording": stats(&cmp.reference), "candidate": stats(&cmp.candidate), "units": cmp.reference.units, "floors": FLOORS },
         "waveform_kurtosis": { "recording": cmp.reference.kurtosis, "candidate": cmp.candidate.kurtosis },
         "crest_factor_db": { "recording": cmp.reference.crest_db, "candidate": cmp.candidate.crest_db },
+        "furthest": {
+            "modulation": cmp.furthest_modulation().map(|m| json!({
+                "band_hz": [m.band_hz.0, m.band_hz.1], "rate_hz": m.rate_hz, "diff_db": m.diff_db,
+            })),
+            "texture": cmp.furthest_texture().map(|t| json!({
+                "statistic": t.kind,
+                "bands_hz": t.bands_hz.iter().map(|b| [b.0, b.1]).collect::<Vec<_>>(),
+                "levels_db": t.levels_db,
+                "recording": t.recording,
+                "candidate": t.candidate,
+                "deviation_units": t.deviation_units,
+            })),
+        },
     })
 }

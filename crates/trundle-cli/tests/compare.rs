@@ -49,8 +49,23 @@ fn takes_of_one_preset_match_and_other_presets_do_not() {
         );
         assert!(other[m]["limit"].as_f64().is_some(), "{m}");
     }
+    // Where it is furthest off: a modulation cell and a texture statistic, with their bands.
+    let far = &other["furthest"];
+    assert!(far["modulation"]["rate_hz"].as_f64().is_some(), "{far:#}");
+    assert!(far["modulation"]["diff_db"]
+        .as_f64()
+        .is_some_and(f64::is_finite));
+    let stat = far["texture"]["statistic"].as_str().unwrap_or_default();
+    assert!(
+        ["spread", "skewness", "kurtosis", "correlation"].contains(&stat),
+        "{far:#}"
+    );
+    let bands = far["texture"]["bands_hz"].as_array().map_or(0, Vec::len);
+    assert_eq!(bands, if stat == "correlation" { 2 } else { 1 }, "{far:#}");
     let text = ok(dir, &["compare", "a.wav", "c.wav", "--plot", "ac.png"]);
     assert!(text.contains("not a match"), "{text}");
+    assert!(text.contains("largest modulation difference"), "{text}");
+    assert!(text.contains("largest texture gap"), "{text}");
     assert!(text.contains("spectrum") && text.contains("FAIL"), "{text}");
     let png = std::fs::read(dir.join("ac.png")).expect("the plot is written");
     assert_eq!(&png[1..4], b"PNG");

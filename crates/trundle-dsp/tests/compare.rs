@@ -144,3 +144,31 @@ fn different_rates_compare_on_what_both_hold() {
     assert!(c.reference.top_hz <= 12_000.0);
     assert!(c.spectrum.passed, "{}", summary(&c));
 }
+
+/// A take swelling at 3 Hz against a steady recording: the modulation cell furthest off is
+/// the swell's own (the 4 Hz octave band, 2.8–5.7 Hz, in excess), and the texture statistic
+/// furthest off a cross-band correlation (the swell is common to every band; a steady noise's
+/// bands are independent), with both bands' levels in the recording given (the loudest at
+/// 0 dB).
+#[test]
+fn the_furthest_cell_and_statistic_are_the_ones_changed() {
+    let steady = Texture {
+        am_depth: 0.0,
+        ..BASE
+    };
+    let swelling = Texture {
+        am_depth: 0.6,
+        ..BASE
+    };
+    let c = judge(steady, swelling, 10);
+    let m = c.furthest_modulation().expect("a modulation cell");
+    let t = c.furthest_texture().expect("a texture statistic");
+    println!("{m:?}\n{t:?}");
+    assert_eq!(m.rate_hz, 4.0, "{m:?}");
+    assert!(m.diff_db > 10.0, "{m:?}");
+    assert_eq!(t.kind, "correlation", "{t:?}");
+    assert_eq!(t.bands_hz.len(), 2);
+    assert!(t.candidate > t.recording + 0.5, "{t:?}");
+    assert!(t.deviation_units > 3.0, "{t:?}");
+    assert!(t.levels_db.iter().all(|&l| l <= 0.0 && l > -80.0), "{t:?}");
+}

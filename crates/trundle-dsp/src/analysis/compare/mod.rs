@@ -16,6 +16,7 @@
 
 mod compress;
 pub mod envelopes;
+pub mod furthest;
 pub mod impulsiveness;
 pub mod modulation;
 pub mod noise;
