@@ -11,6 +11,7 @@ use crate::compare_plot;
 use crate::error::{input, quote, CliError};
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
+use trundle_dsp::analysis::compare::furthest::{ModulationGap, TextureGap};
 use trundle_dsp::analysis::compare::{compare, statistics::FLOORS, Comparison, Verdict};
 use trundle_io::recording::{decode, DecodeOptions};
 
@@ -142,26 +143,12 @@ pub fn to_text(cmp: &Comparison, recording: &Path, candidate: &Path) -> String {
     }
     if let Some(m) = cmp.furthest_modulation() {
         s += &format!(
-            "largest modulation difference: {:+.1} dB, {} band at {} Hz\n",
-            m.diff_db,
-            band_text(m.band_hz),
-            m.rate_hz
+            "largest modulation difference: {}\n",
+            modulation_gap_text(&m)
         );
     }
     if let Some(t) = cmp.furthest_texture() {
-        let bands: Vec<String> = t.bands_hz.iter().map(|&b| band_text(b)).collect();
-        let levels: Vec<String> = t.levels_db.iter().map(|l| format!("{l:.0}")).collect();
-        s += &format!(
-            "largest texture gap: {} of the {} envelope{}, {:.2} vs {:.2} in the recording \
-             ({:+.1} units; {} dB re the recording's loudest band)\n",
-            t.kind,
-            bands.join(" and "),
-            if bands.len() > 1 { "s" } else { "" },
-            t.candidate,
-            t.recording,
-            t.deviation_units,
-            levels.join(" and ")
-        );
+        s += &format!("largest texture gap: {}\n", texture_gap_text(&t));
     }
     s
 }
@@ -169,6 +156,34 @@ pub fn to_text(cmp: &Comparison, recording: &Path, candidate: &Path) -> String {
 /// An envelope band as text, "1125–2520 Hz".
 fn band_text((lo, hi): (f64, f64)) -> String {
     format!("{lo:.0}–{hi:.0} Hz")
+}
+
+/// The modulation cell furthest off, as text: "+10.8 dB, 1125–2520 Hz band at 32 Hz".
+pub fn modulation_gap_text(m: &ModulationGap) -> String {
+    format!(
+        "{:+.1} dB, {} band at {} Hz",
+        m.diff_db,
+        band_text(m.band_hz),
+        m.rate_hz
+    )
+}
+
+/// The texture statistic furthest off, as text: which, of which band(s), both values, the
+/// deviation in units and the bands' levels in the recording.
+pub fn texture_gap_text(t: &TextureGap) -> String {
+    let bands: Vec<String> = t.bands_hz.iter().map(|&b| band_text(b)).collect();
+    let levels: Vec<String> = t.levels_db.iter().map(|l| format!("{l:.0}")).collect();
+    format!(
+        "{} of the {} envelope{}, {:.2} vs {:.2} in the recording ({:+.1} units; {} dB re the \
+         recording's loudest band)",
+        t.kind,
+        bands.join(" and "),
+        if bands.len() > 1 { "s" } else { "" },
+        t.candidate,
+        t.recording,
+        t.deviation_units,
+        levels.join(" and ")
+    )
 }
 
 fn verdict_json(v: &Verdict) -> Value {

@@ -21,7 +21,7 @@
 //! validation seed); 3 the preset is the best found but outside the limits (written, and
 //! the failing measures named with their numbers); 2 bad input; 1 I/O failure.
 
-use crate::compare_cmd::load_mono;
+use crate::compare_cmd::{self, load_mono};
 use crate::error::{failure, input, quote, CliError};
 use crate::fit_cmd::{fit_file, write_text};
 use crate::match_pitch::{friction_starts, harmonic_presearch, tone, tune_size, with_turning};
@@ -122,15 +122,22 @@ pub fn failing(c: &Comparison) -> Vec<String> {
             c.spectrum.value, c.spectrum.limit
         ));
     }
+    // Modulation and texture name where they are furthest off (`compare`'s closing lines).
     if !c.modulation.passed {
+        let at = c.furthest_modulation().map_or_else(String::new, |m| {
+            format!("; furthest {}", compare_cmd::modulation_gap_text(&m))
+        });
         out.push(format!(
-            "modulation {:.2} dB (limit {:.1})",
+            "modulation {:.2} dB (limit {:.1}{at})",
             c.modulation.value, c.modulation.limit
         ));
     }
     if !c.texture.passed {
+        let at = c.furthest_texture().map_or_else(String::new, |t| {
+            format!("; furthest the {}", compare_cmd::texture_gap_text(&t))
+        });
         out.push(format!(
-            "texture {:.2} (limit {:.1})",
+            "texture {:.2} (limit {:.1}{at})",
             c.texture.value, c.texture.limit
         ));
     }
