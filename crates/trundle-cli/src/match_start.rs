@@ -17,6 +17,9 @@
 //! the cross-band correlation, wander the envelopes' spread and skew, crackle the kurtosis);
 //! the thresholds are where a steady Trundle roll or rub sits (its spread 0.16, correlation
 //! 0.29, kurtosis 3.6), so a recording no more textured than that starts without the control.
+//! Strokes move every band together and spread the envelopes too, so a stroked recording's
+//! strokes are read at least as deep as its cross-band correlation says, and the spread they
+//! make is not taken for wander (as surges' correlation is not taken for bumps).
 //! The search moves every one of them afterwards; these only choose where it begins.
 
 use trundle_dsp::analysis::compare::modulation::MODULATION_CENTRES_HZ;
@@ -43,6 +46,13 @@ pub const SURGE_EXCESS_DB: f64 = 4.0;
 /// The surges' rate is the fastest modulation band still within this many dB of the slowest's
 /// power.
 pub const SURGE_FALL_DB: f64 = 6.0;
+/// Mean cross-band envelope correlation of a rub without strokes and with strokes at depth 1
+/// (4 Hz, 6 s, measured): strokes move every band together, so a recording whose bands move
+/// together more than that has its strokes read deeper than its modulation peak alone says.
+pub const STROKE_CORRELATION: [f64; 2] = [0.34, 0.52];
+/// Mean envelope spread σ/μ strokes at depth 1 add to a rub (0.167 → 0.230, the same
+/// measurement): spread the strokes explain is not the wander's.
+pub const STROKE_SPREAD: f64 = 0.063;
 
 /// What the profile suggests, each as a value of its control.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -123,10 +133,21 @@ pub fn estimate(p: &Profile) -> Estimate {
         _ => None,
     };
     let correlation = mean(&p.stats.correlation).unwrap_or(0.0);
+    // Strokes move every band together: as deep as the peak says, or as the bands'
+    // correlation does, whichever is more.
+    let strokes = strokes.map(|(depth, rate_hz)| {
+        let [c0, c1] = STROKE_CORRELATION;
+        (
+            depth.max(((correlation - c0) / (c1 - c0)).clamp(0.0, 1.0)),
+            rate_hz,
+        )
+    });
     // Surges move every band together too: the correlation is theirs, not knocks'.
     let bumpiness = (strokes.is_none() && surges.is_none() && correlation > BUMPY_CORRELATION)
         .then(|| (0.3 + (correlation - BUMPY_CORRELATION)).min(1.0));
-    let spread = mean(&p.stats.spread).unwrap_or(0.0);
+    // The spread the strokes explain is theirs, not the wander's.
+    let spread =
+        mean(&p.stats.spread).unwrap_or(0.0) - strokes.map_or(0.0, |s| s.0 * STROKE_SPREAD);
     // Spread 0.16 → 0.29 from wander 0 to 1 on a roll (docs/MODEL.md).
     let spread_wander =
         (spread > STEADY_SPREAD + 0.03).then(|| ((spread - STEADY_SPREAD) / 0.13).clamp(0.2, 1.0));
@@ -244,7 +265,8 @@ mod tests {
     }
 
     /// Steady noise starts steady; noise swelling at 2 Hz in every band reads as strokes at
-    /// 2 Hz.
+    /// 2 Hz, at full depth (every band moves together) and with no wander (the spread is the
+    /// strokes').
     #[test]
     fn strokes_are_read_off_a_modulation_peak() {
         let fs = 16_000.0;
@@ -258,8 +280,14 @@ mod tests {
             .map(|(i, v)| v * (core::f64::consts::TAU * 1.0 * i as f64 / fs).sin().abs())
             .collect();
         let e = estimate(&profile(&swelling, fs, 8000.0, "recording").unwrap());
-        let (_, rate) = e.strokes.expect("a stroke peak");
+        let (depth, rate) = e.strokes.expect("a stroke peak");
         assert_eq!(rate, 2.0, "{e:?}");
+        // Every band swells at once (mean correlation past a rub's at depth 1): full depth,
+        // whatever the peak's height alone would read.
+        assert_eq!(depth, 1.0, "{e:?}");
+        // Its envelopes spread 0.23 (σ/μ, the bands' mean), what strokes at depth 1 make on
+        // a rub: the strokes', not a wandering hand's (the spread alone read wander 0.53).
+        assert!(e.wander.is_none(), "{e:?}");
     }
 
     /// Steady noise does not surge; noise whose level drifts over seconds in every band (a
