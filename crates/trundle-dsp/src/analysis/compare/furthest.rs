@@ -52,12 +52,11 @@ impl Comparison {
         edges
     }
 
-    /// The level of each envelope band in the recording's long-term spectrum (the power of
-    /// the third-octave bands whose centres it holds), dB re the loudest.
-    fn envelope_band_levels_db(&self) -> Vec<f64> {
+    /// The level of each of `bands` in the recording's long-term spectrum (the power of the
+    /// third-octave bands whose centres it holds), dB re the loudest.
+    fn band_levels_db(&self, bands: &[(f64, f64)]) -> Vec<f64> {
         let s = &self.reference.spectrum;
-        let power: Vec<f64> = self
-            .envelope_bands_hz()
+        let power: Vec<f64> = bands
             .iter()
             .map(|&(lo, hi)| {
                 s.centres_hz
@@ -104,16 +103,21 @@ impl Comparison {
             .enumerate()
             .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))?;
         let bands = self.envelope_bands_hz();
-        let levels = self.envelope_band_levels_db();
-        let nb = bands.len();
+        let levels = self.band_levels_db(&bands);
         let r = self.reference.stats.values();
         let c = self.candidate.stats.values();
-        let (kind, which) = if i < 3 * nb {
-            (i / nb.max(1), vec![i % nb.max(1)])
+        // `values()` tags each statistic with its kind; its place among its kind's picks the
+        // band (a moment) or the pair of bands (a correlation, in (0,1), (0,2) … order).
+        let (kind, recording) = *r.get(i)?;
+        let place = i - r.iter().position(|v| v.0 == kind)?;
+        let which = if STATISTIC_KINDS[kind] == "correlation" {
+            let nb = bands.len();
+            let (j, k) = (0..nb)
+                .flat_map(|j| (j + 1..nb).map(move |k| (j, k)))
+                .nth(place)?;
+            vec![j, k]
         } else {
-            let pairs = (0..nb).flat_map(|j| (j + 1..nb).map(move |k| (j, k)));
-            let (j, k) = pairs.clone().nth(i - 3 * nb)?;
-            (3, vec![j, k])
+            vec![place]
         };
         Some(TextureGap {
             kind: STATISTIC_KINDS[kind],
@@ -125,7 +129,7 @@ impl Comparison {
                 .iter()
                 .filter_map(|&b| levels.get(b).copied())
                 .collect(),
-            recording: r.get(i)?.1,
+            recording,
             candidate: c.get(i)?.1,
             deviation_units,
         })
