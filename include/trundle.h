@@ -790,3 +790,4 @@ enum TrundleStatus trundle_voice_render_interleaved(struct TrundleVoice *voice, 
 #define TRUNDLE_PARAM_PRESSURE_N 52 /* Pressure, 0.05 to 20 N */
 #define TRUNDLE_PARAM_RUB_BODY 53 /* Rubbing body: 0 finger, 1 rubber, 2 chalk, 3 steel, 4 rosin */
 #define TRUNDLE_PARAM_WANDER_RATE_HZ 54 /* Wander rate, 0.25 to 8 Hz */
+#define TRUNDLE_PARAM_STROKE_LIFT 55 /* Stroke lift, 0 to 0.8 */

@@ -30,7 +30,7 @@ use crate::match_search::{
     BRIGHTNESS_GOAL, BRIGHTNESS_WEIGHT, MIN_BRIGHTNESS,
 };
 use crate::match_space::{action_cue, action_name, dims, restarts_for, with_restart, RESTARTS};
-use crate::match_start::{estimate, starts};
+use crate::match_start::{estimate, starts, stroke_period};
 use crate::output::check_destination;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde_json::{json, Value};
@@ -246,7 +246,7 @@ pub fn run(args: &MatchArgs) -> Result<(String, u8), CliError> {
         ProgressBar::with_draw_target(Some(args.budget as u64), ProgressDrawTarget::stderr())
             .with_style(style)
     };
-    let estimate = estimate(&target.reference);
+    let estimate = estimate(&target.reference, stroke_period(&excerpt, fs));
     let restarts: Vec<Params> = restarts_for(cue, RESTARTS.len())
         .iter()
         .map(|r| with_restart(&start, r))
@@ -274,6 +274,7 @@ pub fn run(args: &MatchArgs) -> Result<(String, u8), CliError> {
         dims: &dims,
         start,
         starts: all_starts,
+        textures: (!estimate.is_empty()).then(|| estimate.clone()),
         seeds: (1..=args.seeds).collect(),
         budget: args.budget,
         seed: args.search_seed,

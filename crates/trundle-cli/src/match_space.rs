@@ -81,6 +81,7 @@ pub const SPACE: &[Axis] = &[
     axis("strokes"),
     ranged("stroke_rate_hz", 0.3, 8.0, true),
     axis("stroke_shape"),
+    axis("stroke_lift"),
     axis("wander"),
 ];
 

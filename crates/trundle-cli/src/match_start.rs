@@ -24,6 +24,7 @@
 
 use trundle_dsp::analysis::compare::modulation::MODULATION_CENTRES_HZ;
 use trundle_dsp::analysis::compare::Profile;
+use trundle_dsp::object::material::Material;
 use trundle_dsp::{ParamId, Params};
 
 /// Micro-roughness every start has: half way, a high band that grows with speed.
@@ -54,11 +55,121 @@ pub const STROKE_CORRELATION: [f64; 2] = [0.34, 0.52];
 /// measurement): spread the strokes explain is not the wander's.
 pub const STROKE_SPREAD: f64 = 0.063;
 
+/// The slowest and fastest stroke rates the envelope's period is read at (Hz): hands saw,
+/// file and scrub at 0.5–4 strokes per second; faster level swings of a bowed string are its
+/// vibrato (5–8 Hz on the corpus's cello and viola), not strokes.
+pub const STROKE_PERIOD_RATES_HZ: [f64; 2] = [0.5, 4.0];
+/// Autocorrelation of the log envelope at one stroke period over which the recording reads
+/// as stroked: the share of its level's variance that comes back every stroke. The corpus's
+/// stroked clips read 0.69 (a blade held to a grindstone) and 0.77 (a hand saw); the others
+/// stay under 0.4 at 0.5–4 Hz.
+pub const STROKE_PERIOD_STRENGTH: f64 = 0.5;
+/// The envelope's frames (s): 10 ms, fine enough for a 4 Hz stroke's rise.
+const PERIOD_FRAME_S: f64 = 0.01;
+/// The log envelope is floored this far (dB) under its 95th percentile, so silences between
+/// strokes count as deep, not as the noise floor's own wobble.
+const PERIOD_FLOOR_DB: f64 = 50.0;
+/// A peak of the autocorrelation counts only if it stands this far over the lowest value at
+/// shorter lags (a slow drift's smooth decline has no such peak).
+const PERIOD_PROMINENCE: f64 = 0.15;
+
+/// A quiet frame lies this far (dB) under the envelope's 95th percentile: the body is off.
+const LIFT_QUIET_DB: f64 = 25.0;
+/// A stroked recording whose quiet frames make up more than this share has its strokes read
+/// as lifted for that share (the corpus's blade on a grindstone: 0.36, the hand saw, which
+/// never leaves the wood: 0.06).
+const LIFT_QUIET_SHARE: f64 = 0.1;
+
+/// A recording's stroke period ([`stroke_period`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StrokePeriod {
+    /// Strokes per second.
+    pub rate_hz: f64,
+    /// Normalized autocorrelation of the log envelope at one period.
+    pub strength: f64,
+    /// Share of the envelope's 10 ms frames [`LIFT_QUIET_DB`] or more under its 95th
+    /// percentile.
+    pub quiet_share: f64,
+}
+
+/// The stroke period of a recording `x` at `sample_rate_hz`: its rate and strength, the
+/// normalized autocorrelation of its broadband log envelope at that period, when the
+/// autocorrelation has a prominent peak at a rate of [`STROKE_PERIOD_RATES_HZ`]. Of peaks
+/// within 80 % of the highest, the shortest period (a stroke, not two or three).
+///
+/// The modulation spectrum's octave bands place a stroke rate only to an octave, and a
+/// stroke that lifts off (a blade on a grindstone: 40 dB on/off, a sharp start at 2.6 Hz)
+/// spreads its power over the octaves above, so no band stands over its neighbours; the
+/// period is exact and reads both.
+pub fn stroke_period(x: &[f64], sample_rate_hz: f64) -> Option<StrokePeriod> {
+    let hop = (PERIOD_FRAME_S * sample_rate_hz).round() as usize;
+    if hop == 0 || !sample_rate_hz.is_finite() {
+        return None;
+    }
+    let frame_s = hop as f64 / sample_rate_hz;
+    let mut e: Vec<f64> = x
+        .chunks_exact(hop)
+        .map(|c| 10.0 * (c.iter().map(|v| v * v).sum::<f64>() / hop as f64 + 1e-20).log10())
+        .collect();
+    let m = e.len();
+    let lo = (1.0 / (STROKE_PERIOD_RATES_HZ[1] * frame_s)).floor() as usize;
+    let hi = ((1.0 / (STROKE_PERIOD_RATES_HZ[0] * frame_s)).ceil() as usize).min(m / 3);
+    if hi <= lo + 1 {
+        return None;
+    }
+    let mut sorted = e.clone();
+    sorted.sort_by(f64::total_cmp);
+    let top = sorted[(0.95 * (m - 1) as f64) as usize];
+    let quiet_share = sorted.partition_point(|&v| v < top - LIFT_QUIET_DB) as f64 / m as f64;
+    let floor = top - PERIOD_FLOOR_DB;
+    for v in &mut e {
+        *v = v.max(floor);
+    }
+    let mu = e.iter().sum::<f64>() / m as f64;
+    for v in &mut e {
+        *v -= mu;
+    }
+    let r0: f64 = e.iter().map(|v| v * v).sum();
+    if r0 <= 0.0 {
+        return None;
+    }
+    let r: Vec<f64> = (0..=hi + 1)
+        .map(|k| {
+            e[..m - k]
+                .iter()
+                .zip(&e[k..])
+                .map(|(a, b)| a * b)
+                .sum::<f64>()
+                / r0
+        })
+        .collect();
+    let mut lowest = f64::INFINITY;
+    let mut peaks = Vec::new();
+    for k in 1..=hi {
+        lowest = lowest.min(r[k - 1]);
+        if k >= lo && r[k] > r[k - 1] && r[k] >= r[k + 1] && r[k] - lowest > PERIOD_PROMINENCE {
+            peaks.push((k, r[k]));
+        }
+    }
+    let best = peaks.iter().map(|p| p.1).fold(f64::NEG_INFINITY, f64::max);
+    peaks
+        .iter()
+        .find(|p| p.1 >= 0.8 * best)
+        .map(|&(k, v)| StrokePeriod {
+            rate_hz: 1.0 / (k as f64 * frame_s),
+            strength: v,
+            quiet_share,
+        })
+}
+
 /// What the profile suggests, each as a value of its control.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Estimate {
     /// Strokes: depth and rate (Hz), when the modulation spectrum has a peak.
     pub strokes: Option<(f64, f64)>,
+    /// The share of each stroke the body is lifted off, when the recording falls quiet
+    /// between strokes.
+    pub stroke_lift: Option<f64>,
     /// Bumpiness, when every band moves together without a stroke peak.
     pub bumpiness: Option<f64>,
     /// Wander, when the envelopes spread more than a steady roll's (or the recording surges).
@@ -85,8 +196,8 @@ fn mean(v: &[f64]) -> Option<f64> {
     (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64)
 }
 
-/// The estimate of `p` (a recording's profile).
-pub fn estimate(p: &Profile) -> Estimate {
+/// The estimate of `p` (a recording's profile) and `period`, its [`stroke_period`].
+pub fn estimate(p: &Profile, period: Option<StrokePeriod>) -> Estimate {
     let m = mean_modulation(p);
     // A stroke peak: a modulation band at 0.5–8 Hz over both its neighbours.
     let mut strokes = None;
@@ -111,6 +222,19 @@ pub fn estimate(p: &Profile) -> Estimate {
             // docs/MODEL.md).
             strokes = Some(((0.3 + over / 12.0).min(1.0), MODULATION_CENTRES_HZ[k]));
         }
+    }
+    // A strong stroke period: strokes at its exact rate, at least as deep as the share of
+    // the level that comes back every stroke.
+    // Quiet between strokes: the body is lifted off for that share of each.
+    let mut stroke_lift = None;
+    if let Some(period) = period.filter(|p| p.strength >= STROKE_PERIOD_STRENGTH) {
+        let depth = strokes
+            .map_or(0.0, |s: (f64, f64)| s.0)
+            .max(period.strength.min(1.0));
+        stroke_lift = (period.quiet_share > LIFT_QUIET_SHARE).then_some(period.quiet_share);
+        // Quiet while lifted is full depth (at depth d the lifted body still presses 1 − d).
+        let depth = if stroke_lift.is_some() { 1.0 } else { depth };
+        strokes = Some((depth, period.rate_hz));
     }
     // Surges: the slowest modulation over the 4 Hz band's; their rate where it has fallen.
     let slowest = m[..2].iter().flatten().cloned().fold(f64::NAN, f64::max);
@@ -149,17 +273,23 @@ pub fn estimate(p: &Profile) -> Estimate {
     let spread =
         mean(&p.stats.spread).unwrap_or(0.0) - strokes.map_or(0.0, |s| s.0 * STROKE_SPREAD);
     // Spread 0.16 → 0.29 from wander 0 to 1 on a roll (docs/MODEL.md).
-    let spread_wander =
-        (spread > STEADY_SPREAD + 0.03).then(|| ((spread - STEADY_SPREAD) / 0.13).clamp(0.2, 1.0));
+    // A body lifted off between strokes spreads the envelopes far more than any hand's
+    // wander: none is read off them then.
+    let spread_wander = (stroke_lift.is_none() && spread > STEADY_SPREAD + 0.03)
+        .then(|| ((spread - STEADY_SPREAD) / 0.13).clamp(0.2, 1.0));
     let wander = match (spread_wander, surges) {
         (Some(a), Some((b, _))) => Some(a.max(b)),
         (a, b) => a.or(b.map(|s| s.0)),
     };
     let wander_rate_hz = surges.map(|s| s.1);
-    let crackle = (p.kurtosis > CRACKLY_KURTOSIS)
-        .then(|| (0.2 + 0.1 * (p.kurtosis - CRACKLY_KURTOSIS)).min(1.0));
+    // Sound gated on for a share q of the time has q⁻¹ times its kurtosis: the lift's, not
+    // crackle's.
+    let kurtosis = p.kurtosis * (1.0 - stroke_lift.unwrap_or(0.0));
+    let crackle =
+        (kurtosis > CRACKLY_KURTOSIS).then(|| (0.2 + 0.1 * (kurtosis - CRACKLY_KURTOSIS)).min(1.0));
     Estimate {
         strokes,
+        stroke_lift,
         bumpiness,
         wander,
         wander_rate_hz,
@@ -171,6 +301,7 @@ impl Estimate {
     /// Does the estimate set any texture control?
     pub fn is_empty(&self) -> bool {
         self.strokes.is_none()
+            && self.stroke_lift.is_none()
             && self.bumpiness.is_none()
             && self.wander.is_none()
             && self.wander_rate_hz.is_none()
@@ -183,6 +314,18 @@ impl Estimate {
         if let Some((depth, rate_hz)) = self.strokes {
             q.set_clamped(ParamId::Strokes, depth);
             q.set_clamped(ParamId::StrokeRateHz, rate_hz);
+        }
+        if let (Some(l), Some((_, rate_hz))) = (self.stroke_lift, self.strokes) {
+            q.set_clamped(ParamId::StrokeLift, l);
+            // The object's ring must die within the lift, as the recording does: its 1 kHz
+            // decay no longer than takes LIFT_QUIET_DB within the gap (8.69 dB per time
+            // constant).
+            let material =
+                Material::from_disk(q.get(ParamId::MaterialX), q.get(ParamId::MaterialY));
+            let tau_s = material.decay_s(1000.0, 1.0);
+            let gap_s = l / rate_hz;
+            let most = gap_s * 8.69 / LIFT_QUIET_DB / tau_s;
+            q.set_clamped(ParamId::Decay, q.get(ParamId::Decay).min(most));
         }
         if let Some(b) = self.bumpiness {
             q.set_clamped(ParamId::Bumpiness, b);
@@ -203,7 +346,10 @@ impl Estimate {
     pub fn describe(&self) -> String {
         let mut parts = Vec::new();
         if let Some((d, r)) = self.strokes {
-            parts.push(format!("strokes {d:.2} at {r} Hz"));
+            parts.push(format!("strokes {d:.2} at {r:.2} Hz"));
+        }
+        if let Some(l) = self.stroke_lift {
+            parts.push(format!("lifted {:.0} % of each stroke", 100.0 * l));
         }
         if let Some(b) = self.bumpiness {
             parts.push(format!("bumpiness {b:.2}"));
@@ -271,7 +417,10 @@ mod tests {
     fn strokes_are_read_off_a_modulation_peak() {
         let fs = 16_000.0;
         let x = noise(4 * 16_000, 3);
-        let steady = estimate(&profile(&x, fs, 8000.0, "recording").unwrap());
+        let steady = estimate(
+            &profile(&x, fs, 8000.0, "recording").unwrap(),
+            stroke_period(&x, fs),
+        );
         assert!(steady.strokes.is_none(), "{steady:?}");
         assert!(steady.crackle.is_none(), "{steady:?}");
         let swelling: Vec<f64> = x
@@ -279,7 +428,10 @@ mod tests {
             .enumerate()
             .map(|(i, v)| v * (core::f64::consts::TAU * 1.0 * i as f64 / fs).sin().abs())
             .collect();
-        let e = estimate(&profile(&swelling, fs, 8000.0, "recording").unwrap());
+        let e = estimate(
+            &profile(&swelling, fs, 8000.0, "recording").unwrap(),
+            stroke_period(&swelling, fs),
+        );
         let (depth, rate) = e.strokes.expect("a stroke peak");
         assert_eq!(rate, 2.0, "{e:?}");
         // Every band swells at once (mean correlation past a rub's at depth 1): full depth,
@@ -290,6 +442,49 @@ mod tests {
         assert!(e.wander.is_none(), "{e:?}");
     }
 
+    /// Strokes that lift off (noise on for 65 % of each 2.6 Hz stroke, starting sharp and
+    /// dying 30 dB, then 60 dB down: a blade held to a grindstone) are read at their exact
+    /// rate off the envelope's period, where the modulation spectrum's octave bands say 2 Hz;
+    /// steady noise has no period.
+    #[test]
+    fn lifting_strokes_are_read_off_the_envelope_period() {
+        let fs = 16_000.0;
+        let x = noise(6 * 16_000, 7);
+        assert!(
+            stroke_period(&x, fs).is_none_or(|p| p.strength < STROKE_PERIOD_STRENGTH),
+            "{:?}",
+            stroke_period(&x, fs)
+        );
+        let rate_hz = 2.6;
+        let lifting: Vec<f64> = x
+            .iter()
+            .enumerate()
+            .map(|(i, v)| {
+                let u = (i as f64 / fs * rate_hz).fract();
+                let db = if u < 0.65 { -30.0 * u / 0.65 } else { -60.0 };
+                v * 10f64.powf(db / 20.0)
+            })
+            .collect();
+        let period = stroke_period(&lifting, fs).expect("a period");
+        // 10 ms frames place a 385 ms period to within half a frame (1.3 %).
+        assert!((period.rate_hz / rate_hz - 1.0).abs() < 0.015, "{period:?}");
+        assert!(period.strength > 0.8, "{period:?}");
+        let e = estimate(
+            &profile(&lifting, fs, 8000.0, "recording").unwrap(),
+            Some(period),
+        );
+        assert_eq!(e.strokes.map(|s| s.1), Some(period.rate_hz), "{e:?}");
+        assert!(e.strokes.is_some_and(|s| s.0 >= period.strength), "{e:?}");
+        // Silent for 35 % of each stroke, and 25 dB down or more in the last few % of the
+        // fading part too (where depends on where the 95th percentile of the 10 ms frames'
+        // noisy levels falls): lifted for 35–50 %.
+        let lift = e.stroke_lift.expect("lifted");
+        assert!(lift > 0.35 && lift < 0.5, "{e:?}");
+        // The modulation spectrum's octave bands alone place it an octave band off.
+        let blind = estimate(&profile(&lifting, fs, 8000.0, "recording").unwrap(), None);
+        assert_eq!(blind.strokes.map(|s| s.1), Some(2.0), "{blind:?}");
+    }
+
     /// Steady noise does not surge; noise whose level drifts over seconds in every band (a
     /// sum of slow random sines, 0.2–0.7 Hz, ±60 %) reads as surges: slow wander with a rate
     /// of at most 1 Hz, and no bumps though every band moves together.
@@ -297,7 +492,10 @@ mod tests {
     fn surges_are_read_off_the_slow_modulation() {
         let fs = 16_000.0;
         let x = noise(6 * 16_000, 5);
-        let steady = estimate(&profile(&x, fs, 8000.0, "recording").unwrap());
+        let steady = estimate(
+            &profile(&x, fs, 8000.0, "recording").unwrap(),
+            stroke_period(&x, fs),
+        );
         assert!(steady.wander_rate_hz.is_none(), "{steady:?}");
         let surging: Vec<f64> = x
             .iter()
@@ -312,7 +510,10 @@ mod tests {
                 v * g
             })
             .collect();
-        let e = estimate(&profile(&surging, fs, 8000.0, "recording").unwrap());
+        let e = estimate(
+            &profile(&surging, fs, 8000.0, "recording").unwrap(),
+            stroke_period(&surging, fs),
+        );
         let rate = e.wander_rate_hz.expect("surges");
         assert!(rate <= 1.0, "{e:?}");
         assert!(e.wander.is_some_and(|w| w >= 0.6), "{e:?}");

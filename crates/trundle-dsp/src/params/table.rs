@@ -686,4 +686,15 @@ schema! {
         group: None,
         doc: "How fast the hand wanders: its random walks run from 0.125 Hz up to this rate, the same swing shared among fewer, slower walks as it falls: 8 = drifts and wobbles (1/f over six octaves), 1 = slow surges only (a cart over uneven ground, passing traffic: every band swells together over seconds)",
     },
+    /// The share of each stroke the rubbing body is lifted off ([`crate::scene::hand`]).
+    StrokeLift {
+        key: "stroke_lift",
+        name: "Stroke lift",
+        unit: "",
+        values: percent(0.0, 0.8),
+        default: 0.0,
+        place: at(Panel::Motion, Section::Gesture, "Lift"),
+        group: None,
+        doc: "One-way strokes (a file, a blade sharpened on a stone, a brush flicked): the share of each stroke the hand lifts the rubbing body off and brings it back through the air; the stroke's shape plays in the rest, and at strokes depth 1 the contact is silent while lifted; 0 = always in contact",
+    },
 }

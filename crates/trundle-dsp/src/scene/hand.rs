@@ -57,6 +57,9 @@ pub const STROKE_SHARPEST: f64 = 0.06;
 pub const STROKE_LENGTH_JITTER: f64 = 0.12;
 /// Standard deviation of ln of a stroke's peak speed.
 pub const STROKE_PEAK_JITTER: f64 = 0.15;
+/// The largest share of a stroke the body can be lifted for (the rest, at least a fifth,
+/// is the stroke).
+pub const STROKE_LIFT_MAX: f64 = 0.8;
 /// Phase a render starts at: mid-stroke, at full speed (not silent at its first sample).
 pub const STROKE_START_PHASE: f64 = 0.5;
 
@@ -69,6 +72,8 @@ pub struct HandControls {
     pub stroke_rate_hz: f64,
     /// Stroke shape 0…1 (0 = sine, 1 = hard push, quick turn-around).
     pub stroke_shape: f64,
+    /// The share of each stroke the rubbing body is lifted off, 0…[`STROKE_LIFT_MAX`].
+    pub stroke_lift: f64,
     /// Wander depth 0…1 (0 = a steady hand).
     pub wander: f64,
     /// The fastest wander walk's corner (Hz): walks above it are left out ([`walk_weight`]).
@@ -82,6 +87,7 @@ impl HandControls {
             strokes: p.get(ParamId::Strokes),
             stroke_rate_hz: p.get(ParamId::StrokeRateHz),
             stroke_shape: p.get(ParamId::StrokeShape),
+            stroke_lift: p.get(ParamId::StrokeLift),
             wander: p.get(ParamId::Wander),
             wander_rate_hz: p.get(ParamId::WanderRateHz),
         }
@@ -240,9 +246,16 @@ impl Hand {
         let d = self.strokes.value();
         let (mut speed, mut gain) = (1.0, 1.0);
         if d > 0.0 {
-            let p = stroke_profile(self.phase, self.c.stroke_shape) * self.peak;
-            speed = 1.0 - d + d * p;
-            gain = 1.0 - d * STROKE_PRESSURE * (1.0 - p);
+            // The stroke plays in the first 1 − lift of the phase; then the body is off.
+            let touching = 1.0 - self.c.stroke_lift.clamp(0.0, STROKE_LIFT_MAX);
+            if self.phase < touching {
+                let p = stroke_profile(self.phase / touching, self.c.stroke_shape) * self.peak;
+                speed = 1.0 - d + d * p;
+                gain = 1.0 - d * STROKE_PRESSURE * (1.0 - p);
+            } else {
+                speed = 1.0 - d;
+                gain = 1.0 - d;
+            }
         }
         let w = self.wander.value();
         if w > 0.0 {
@@ -358,6 +371,35 @@ mod tests {
         assert!(stroke_profile(0.1, 0.0) < 0.35);
     }
 
+    /// With a lift the stroke plays in the first 1 − lift of each stroke and the body is off
+    /// for the rest: at depth 1 no speed and no force there (a third of the time at lift ⅓);
+    /// with no lift the contact never leaves.
+    #[test]
+    fn a_lifted_stroke_is_silent_for_its_lift() {
+        let c = |lift: f64| HandControls {
+            strokes: 1.0,
+            stroke_rate_hz: 3.0,
+            stroke_shape: 1.0,
+            stroke_lift: lift,
+            wander: 0.0,
+            wander_rate_hz: 8.0,
+        };
+        for (lift, share) in [(0.0, 0.0), (1.0 / 3.0, 1.0 / 3.0)] {
+            let mut h = Hand::new(48_000.0, c(lift), 9);
+            let (mut off, mut n) = (0, 0);
+            for _ in 0..20_000 {
+                h.advance(CHUNK);
+                let silent = h.pressure() == 0.0 && h.speed_factor() == Some(0.0);
+                off += usize::from(silent);
+                n += 1;
+            }
+            // 20 000 chunks span ~100 strokes whose lengths jitter by 12 %: the share of
+            // lifted chunks is within 2 % of the lift.
+            let got = off as f64 / n as f64;
+            assert!((got - share).abs() < 0.02, "lift {lift}: {got}");
+        }
+    }
+
     #[test]
     fn the_wander_has_the_documented_swing() {
         // Depth 1: ln(speed factor) has standard deviation WANDER_SPEED_LN (the walks are
@@ -368,6 +410,7 @@ mod tests {
                 strokes: 0.0,
                 stroke_rate_hz: 2.0,
                 stroke_shape: 0.5,
+                stroke_lift: 0.0,
                 wander: 1.0,
                 wander_rate_hz: rate_hz,
             };

@@ -158,7 +158,9 @@ fn acts(id: ParamId, p: &Params) -> bool {
         ParamId::MicroTone => p.get(ParamId::Micro) > 0.0,
         ParamId::CrackleLevel => p.get(ParamId::Crackle) > 0.0,
         ParamId::BumpRateHz => p.get(ParamId::Bumpiness) > 0.0,
-        ParamId::StrokeRateHz | ParamId::StrokeShape => p.get(ParamId::Strokes) > 0.0,
+        ParamId::StrokeRateHz | ParamId::StrokeShape | ParamId::StrokeLift => {
+            p.get(ParamId::Strokes) > 0.0
+        }
         ParamId::WanderRateHz => p.get(ParamId::Wander) > 0.0,
         ParamId::PressureN | ParamId::RubBody => p.get(ParamId::Friction) > 0.0,
         _ => true,
@@ -176,7 +178,7 @@ mod tests {
         let titles: Vec<&str> = sections.iter().map(|(s, _)| s.title()).collect();
         assert_eq!(titles, ["Gesture", "Surface", "Crowd", "Quality"]);
         let rows: usize = sections.iter().map(|(_, ids)| ids.len()).sum();
-        assert_eq!(rows, 27);
+        assert_eq!(rows, 28);
         // Each section opens with at most one selector and has a control.
         for (s, ids) in &sections {
             assert!(!ids.is_empty(), "{s:?}");
