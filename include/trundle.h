@@ -791,3 +791,5 @@ enum TrundleStatus trundle_voice_render_interleaved(struct TrundleVoice *voice, 
 #define TRUNDLE_PARAM_RUB_BODY 53 /* Rubbing body: 0 finger, 1 rubber, 2 chalk, 3 steel, 4 rosin */
 #define TRUNDLE_PARAM_WANDER_RATE_HZ 54 /* Wander rate, 0.25 to 8 Hz */
 #define TRUNDLE_PARAM_STROKE_LIFT 55 /* Stroke lift, 0 to 0.8 */
+#define TRUNDLE_PARAM_FLOOR_DB 56 /* Noise floor, -120 to -20 dB */
+#define TRUNDLE_PARAM_FLOOR_HZ 57 /* Floor tone, 50 to 20000 Hz */

@@ -222,7 +222,10 @@ pub fn run(args: &MatchArgs) -> Result<(String, u8), CliError> {
     // The start: the defaults (the limiter on, as a render plays it), the velocity inside
     // the searched range; every restart's start (each action corner, other balls and
     // shapes) judged first, the search run from the best.
-    let cue = action_cue(target.reference.kurtosis);
+    let estimate = estimate(&target.reference, stroke_period(&excerpt, fs));
+    // Sound lifted off for a share of the time is that much more kurtotic: the lift's, not
+    // the contact's impulsiveness.
+    let cue = action_cue(target.reference.kurtosis * (1.0 - estimate.stroke_lift.unwrap_or(0.0)));
     let mut start = Params::default();
     start.set_clamped(ParamId::Velocity, 0.4);
     let dims = dims();
@@ -246,7 +249,6 @@ pub fn run(args: &MatchArgs) -> Result<(String, u8), CliError> {
         ProgressBar::with_draw_target(Some(args.budget as u64), ProgressDrawTarget::stderr())
             .with_style(style)
     };
-    let estimate = estimate(&target.reference, stroke_period(&excerpt, fs));
     let restarts: Vec<Params> = restarts_for(cue, RESTARTS.len())
         .iter()
         .map(|r| with_restart(&start, r))

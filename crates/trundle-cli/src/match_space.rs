@@ -85,6 +85,15 @@ pub const SPACE: &[Axis] = &[
     axis("wander"),
 ];
 
+/// The noise floor's controls, searched only from a start whose floor is on (`match` sets
+/// one when the recording is heard between lifted strokes, match_start): from every other
+/// start a floor at its lowest is far under the sound, and two more controls would only
+/// thin the sweeps.
+pub const FLOOR_SPACE: &[Axis] = &[
+    ranged("floor_db", -100.0, -20.0, false),
+    ranged("floor_hz", 50.0, 20_000.0, true),
+];
+
 /// A restart: the action corner it starts from and the discrete choices it fixes.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Restart {
@@ -173,8 +182,16 @@ impl Dim {
 /// [`SPACE`] resolved: the controls the table has (choices skipped; a log scale needs a
 /// positive range).
 pub fn dims() -> Vec<Dim> {
-    SPACE
-        .iter()
+    resolve(SPACE)
+}
+
+/// [`FLOOR_SPACE`] resolved.
+pub fn floor_dims() -> Vec<Dim> {
+    resolve(FLOOR_SPACE)
+}
+
+fn resolve(axes: &[Axis]) -> Vec<Dim> {
+    axes.iter()
         .filter_map(|a| {
             let spec = spec_by_key(a.key)?;
             let int = match spec.kind {

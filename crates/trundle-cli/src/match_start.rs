@@ -90,6 +90,54 @@ pub struct StrokePeriod {
     /// Share of the envelope's 10 ms frames [`LIFT_QUIET_DB`] or more under its 95th
     /// percentile.
     pub quiet_share: f64,
+    /// What is heard in those quiet frames: their median level re the recording's mean
+    /// power (dB) and the frequency under which half their power lies (Hz), `None` without
+    /// quiet frames.
+    pub floor: Option<(f64, f64)>,
+}
+
+/// The floor heard in the quiet frames of `x` (`hop` samples each, their levels
+/// `levels_db`; quiet: under `under_db`): of those, the quieter half (the rest are the
+/// strokes' tails), their mean power re that of `x` (dB) and the frequency under which half
+/// of their power lies (Hz). On the blade on a grindstone: −29.9 dB and 253 Hz (all the
+/// quiet frames: −25.2 dB and 3.8 kHz, the tails' hiss).
+fn quiet_floor(
+    x: &[f64],
+    hop: usize,
+    levels_db: &[f64],
+    under_db: f64,
+    fs: f64,
+) -> Option<(f64, f64)> {
+    let mut quiet: Vec<f64> = levels_db
+        .iter()
+        .copied()
+        .filter(|&l| l < under_db)
+        .collect();
+    if quiet.is_empty() {
+        return None;
+    }
+    quiet.sort_by(f64::total_cmp);
+    let median_db = quiet[quiet.len() / 2];
+    let samples: Vec<f64> = x
+        .chunks_exact(hop)
+        .zip(levels_db)
+        .filter(|(_, &l)| l <= median_db)
+        .flat_map(|(c, _)| c.iter().copied())
+        .collect();
+    let power = |v: &[f64]| v.iter().map(|s| s * s).sum::<f64>() / v.len().max(1) as f64;
+    let re_db = 10.0 * (power(&samples).max(1e-30) / power(x).max(1e-30)).log10();
+    let psd = crate::spectrum::Psd::welch(&samples, fs);
+    let total: f64 = psd.density.iter().skip(1).sum();
+    let mut acc = 0.0;
+    let mut corner_hz = 0.5 * fs;
+    for (k, d) in psd.density.iter().enumerate().skip(1) {
+        acc += d;
+        if acc >= 0.5 * total {
+            corner_hz = k as f64 * psd.df_hz;
+            break;
+        }
+    }
+    Some((re_db, corner_hz))
 }
 
 /// The stroke period of a recording `x` at `sample_rate_hz`: its rate and strength, the
@@ -121,6 +169,7 @@ pub fn stroke_period(x: &[f64], sample_rate_hz: f64) -> Option<StrokePeriod> {
     sorted.sort_by(f64::total_cmp);
     let top = sorted[(0.95 * (m - 1) as f64) as usize];
     let quiet_share = sorted.partition_point(|&v| v < top - LIFT_QUIET_DB) as f64 / m as f64;
+    let heard = quiet_floor(x, hop, &e, top - LIFT_QUIET_DB, sample_rate_hz);
     let floor = top - PERIOD_FLOOR_DB;
     for v in &mut e {
         *v = v.max(floor);
@@ -159,6 +208,7 @@ pub fn stroke_period(x: &[f64], sample_rate_hz: f64) -> Option<StrokePeriod> {
             rate_hz: 1.0 / (k as f64 * frame_s),
             strength: v,
             quiet_share,
+            floor: heard,
         })
 }
 
@@ -170,6 +220,9 @@ pub struct Estimate {
     /// The share of each stroke the body is lifted off, when the recording falls quiet
     /// between strokes.
     pub stroke_lift: Option<f64>,
+    /// The noise floor heard between lifted strokes: its level re the recording's mean power
+    /// (dB) and its corner (Hz) ([`Estimate::with_floor`]).
+    pub floor: Option<(f64, f64)>,
     /// Bumpiness, when every band moves together without a stroke peak.
     pub bumpiness: Option<f64>,
     /// Wander, when the envelopes spread more than a steady roll's (or the recording surges).
@@ -227,11 +280,14 @@ pub fn estimate(p: &Profile, period: Option<StrokePeriod>) -> Estimate {
     // the level that comes back every stroke.
     // Quiet between strokes: the body is lifted off for that share of each.
     let mut stroke_lift = None;
+    let mut floor = None;
     if let Some(period) = period.filter(|p| p.strength >= STROKE_PERIOD_STRENGTH) {
         let depth = strokes
             .map_or(0.0, |s: (f64, f64)| s.0)
             .max(period.strength.min(1.0));
         stroke_lift = (period.quiet_share > LIFT_QUIET_SHARE).then_some(period.quiet_share);
+        // Between lifted strokes what is heard is the floor (a room, the machine).
+        floor = period.floor.filter(|_| stroke_lift.is_some());
         // Quiet while lifted is full depth (at depth d the lifted body still presses 1 − d).
         let depth = if stroke_lift.is_some() { 1.0 } else { depth };
         strokes = Some((depth, period.rate_hz));
@@ -282,14 +338,15 @@ pub fn estimate(p: &Profile, period: Option<StrokePeriod>) -> Estimate {
         (a, b) => a.or(b.map(|s| s.0)),
     };
     let wander_rate_hz = surges.map(|s| s.1);
-    // Sound gated on for a share q of the time has q⁻¹ times its kurtosis: the lift's, not
-    // crackle's.
-    let kurtosis = p.kurtosis * (1.0 - stroke_lift.unwrap_or(0.0));
-    let crackle =
-        (kurtosis > CRACKLY_KURTOSIS).then(|| (0.2 + 0.1 * (kurtosis - CRACKLY_KURTOSIS)).min(1.0));
+    // Sound lifted off between strokes is heavy-tailed by its on and off alone (gated on
+    // for a share q of the time: q⁻¹ times the kurtosis, and more for the strokes' rise and
+    // fall): the lift's, not crackle's, so none is read then.
+    let crackle = (stroke_lift.is_none() && p.kurtosis > CRACKLY_KURTOSIS)
+        .then(|| (0.2 + 0.1 * (p.kurtosis - CRACKLY_KURTOSIS)).min(1.0));
     Estimate {
         strokes,
         stroke_lift,
+        floor,
         bumpiness,
         wander,
         wander_rate_hz,
@@ -317,6 +374,10 @@ impl Estimate {
         }
         if let (Some(l), Some((_, rate_hz))) = (self.stroke_lift, self.strokes) {
             q.set_clamped(ParamId::StrokeLift, l);
+            // The recording's heavy tail is the lift's: no clicks of grit or crackle on top
+            // (on the blade on a grindstone's swept roll they took the kurtosis to ×6–8).
+            q.set_clamped(ParamId::Crackle, 0.0);
+            q.set_clamped(ParamId::Grit, 0.0);
             // The object's ring must die within the lift, as the recording does: its 1 kHz
             // decay no longer than takes LIFT_QUIET_DB within the gap (8.69 dB per time
             // constant).
@@ -342,6 +403,20 @@ impl Estimate {
         q
     }
 
+    /// `p` with the floor heard between the strokes, when the estimate has one, at its level
+    /// under `sound_db` (the mean power in dB of `p`'s mono render without it): `floor_db`
+    /// is per channel, and the mono render (L + R)/2 of the two independent channels is
+    /// 3 dB under either. The corner is the quiet frames' median-power frequency (a one-pole
+    /// low-pass's half power lies under its corner).
+    pub fn with_floor(&self, p: &Params, sound_db: f64) -> Params {
+        let mut q = *p;
+        if let Some((re_db, corner_hz)) = self.floor {
+            q.set_clamped(ParamId::FloorDb, sound_db + re_db + 10.0 * 2f64.log10());
+            q.set_clamped(ParamId::FloorHz, corner_hz);
+        }
+        q
+    }
+
     /// One line for the report.
     pub fn describe(&self) -> String {
         let mut parts = Vec::new();
@@ -350,6 +425,9 @@ impl Estimate {
         }
         if let Some(l) = self.stroke_lift {
             parts.push(format!("lifted {:.0} % of each stroke", 100.0 * l));
+        }
+        if let Some((db, hz)) = self.floor {
+            parts.push(format!("a floor {db:.0} dB under, to {hz:.0} Hz"));
         }
         if let Some(b) = self.bumpiness {
             parts.push(format!("bumpiness {b:.2}"));

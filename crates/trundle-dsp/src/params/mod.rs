@@ -28,6 +28,8 @@ use core::fmt;
 
 pub mod choice;
 pub mod place;
+#[macro_use]
+mod schema;
 mod table;
 mod text;
 mod values;

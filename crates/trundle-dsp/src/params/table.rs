@@ -27,58 +27,6 @@ const ROLL_X: f64 = -0.5;
 /// See [`ROLL_X`].
 const ROLL_Y: f64 = -0.866_025_403_784_438_6;
 
-/// Generate the table from the rows below (see the module docs).
-macro_rules! schema {
-    ($(
-        $(#[$id_doc:meta])*
-        $Id:ident {
-            key: $key:literal,
-            name: $name:literal,
-            unit: $unit:literal,
-            values: $values:ident $(::<$E:ty>)? ( $($arg:expr),* ),
-            default: $default:expr,
-            place: $place:expr,
-            group: $group:expr,
-            doc: $doc:literal,
-        },
-    )+) => {
-        /// Identifies a parameter; the discriminant indexes [`PARAMS`] and
-        /// [`Params`](super::Params).
-        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-        #[repr(usize)]
-        pub enum ParamId {
-            $( $(#[$id_doc])* $Id, )+
-        }
-
-        /// Number of parameters.
-        pub const PARAM_COUNT: usize = [$($key),+].len();
-
-        /// The parameter table, indexed by [`ParamId`].
-        pub const PARAMS: [ParamSpec; PARAM_COUNT] = [$({
-            let values = $values $(::<$E>)? ($($arg),*);
-            ParamSpec {
-                id: ParamId::$Id,
-                key: $key,
-                name: $name,
-                unit: $unit,
-                min: values.min,
-                max: values.max,
-                default: $default,
-                kind: values.kind,
-                place: $place,
-                group: $group,
-                doc: $doc,
-            }
-        }),+];
-
-        $($(
-            impl ChoiceRow for $E {
-                const ID: ParamId = ParamId::$Id;
-            }
-        )?)+
-    };
-}
-
 schema! {
     /// Ball size S.
     Size {
@@ -696,5 +644,27 @@ schema! {
         place: at(Panel::Motion, Section::Gesture, "Lift"),
         group: None,
         doc: "One-way strokes (a file, a blade sharpened on a stone, a brush flicked): the share of each stroke the hand lifts the rubbing body off and brings it back through the air; the stroke's shape plays in the rest, and at strokes depth 1 the contact is silent while lifted; 0 = always in contact",
+    },
+    /// A steady noise floor under the contact ([`crate::scene::floor`]).
+    FloorDb {
+        key: "floor_db",
+        name: "Noise floor",
+        unit: "dB",
+        values: float(-120.0, -20.0),
+        default: -120.0,
+        place: at(Panel::Output, Section::Knobs, "Floor"),
+        group: None,
+        doc: "A steady bed of noise under the contact (a room, a grinder's motor, a saw bench's drive), there when the contact stops: white noise of this RMS in dB full scale in each channel, the two independent, after the gain and before the body EQ (which colours it as it does the contact); -120 = none",
+    },
+    /// The noise floor's corner ([`crate::scene::floor`]).
+    FloorHz {
+        key: "floor_hz",
+        name: "Floor tone",
+        unit: "Hz",
+        values: log(50.0, 20_000.0),
+        default: 20_000.0,
+        place: at(Panel::Output, Section::Knobs, "Floor tone"),
+        group: None,
+        doc: "The noise floor's colour: white below this corner, falling 6 dB per octave above it (a room's rumble, a motor's hum at a few hundred Hz; 20 kHz = white), at the same RMS",
     },
 }

@@ -141,7 +141,8 @@ impl ParamSpec {
     }
 
     /// Decimals of a continuous value's text: 1 on a range wider than 50 units (gain in dB),
-    /// 2 on one wider than 5, otherwise 3 (logarithmic rows too: 0.050 … 5.000 m); a
+    /// 2 on one wider than 5, otherwise 3 (logarithmic rows too: 0.050 … 5.000 m, but none
+    /// on one reaching 1000, where an f32 holds no third decimal: 50 … 20000 Hz); a
     /// percentage row in whole percent (2 decimals of its 0…1 value); none for integers and
     /// enumerations.
     pub fn decimals(&self) -> usize {
@@ -158,6 +159,7 @@ impl ParamSpec {
                     3
                 }
             }
+            ParamKind::Float { log: true, .. } if self.max >= 1000.0 => 0,
             ParamKind::Float { log: true, .. } => 3,
             _ => 0,
         }

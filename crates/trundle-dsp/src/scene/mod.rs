@@ -26,6 +26,7 @@ pub mod bumps;
 pub mod crowd;
 pub mod engine_mix;
 pub mod events;
+pub mod floor;
 pub mod gesture;
 pub mod hand;
 pub mod impulse;

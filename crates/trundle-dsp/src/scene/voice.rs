@@ -8,7 +8,7 @@
 //! (signal   (or the     (drops,   (position  (notes)   (N balls)  (strokes, (knocks,   (1/√N)
 //!  model)    physics,    spins)    comb)                           wander)   swells)
 //!            crossfade)
-//! force ─► dc ─► object (modal bank) ─► mid, side ─► × gain ─► out      (output = force: the force)
+//! force ─► dc ─► object (modal bank) ─► mid, side ─► × gain ─► + floor ─► body EQ ─► out   (or the force)
 //!                twins: the object again, for the physics engine's level match
 //! ```
 //!
@@ -16,19 +16,15 @@
 //! resetting, handing them the parameters, snapping and the idle test fan out over that
 //! list; `Voice::render_chunk` runs them in the order drawn above.
 //!
-//! The force comes from the signal model ([`Source`]) or from the physics engine
-//! ([`PhysicsEngine`]), chosen by the `engine` parameter; the mapping of the controls onto the
-//! physics and the level normalization are in [`crate::physics::mapping`]; the choice, the physics
-//! controls' smoothing and the crossfade on a change of engine are
-//! [`crate::scene::engine_mix::EngineMix`]'s. With `engine = signal` the output is exactly (bit for
-//! bit) what it was before the physics engine existed. The impact log ([`Voice::drain_impacts`])
-//! reports the impacts of whichever engine runs (the physics ball's contacts, see
-//! [`crate::scene::engine_mix`]).
+//! The force comes from the signal model ([`Source`]) or the physics engine ([`PhysicsEngine`],
+//! its mapping and level in [`crate::physics::mapping`]), as `engine` says; the choice, smoothing
+//! and crossfade are [`crate::scene::engine_mix::EngineMix`]'s (`engine = signal`: bit for bit
+//! as before the physics engine). The impact log ([`Voice::drain_impacts`]) reports whichever
+//! engine's impacts.
 //!
-//! Lifecycle ([`crate::stage`]): [`Voice::new`] allocates; [`Voice::set_sample_rate`] may allocate;
-//! [`Voice::reset`] and [`Voice::process`] never do. Blocks of any length are split into chunks of
-//! [`CHUNK`] samples, so the output does not depend on the block size: the same seed and parameters
-//! give the same samples whether rendered in blocks of 1 or 8192.
+//! Lifecycle ([`crate::stage`]): [`Voice::new`] and [`Voice::set_sample_rate`] may allocate,
+//! [`Voice::reset`] and [`Voice::process`] never. Blocks are split into chunks of [`CHUNK`]
+//! samples: the same seed and parameters give the same samples in blocks of 1 or 8192.
 
 use crate::block::{flush_output, CHUNK};
 use crate::object::fitted::LoadedObject;
@@ -40,6 +36,7 @@ use crate::scene::body_eq::{BodyEq, BodyEqCurve};
 use crate::scene::bumps::{BumpControls, Bumps};
 use crate::scene::crowd::{scene_controls, Crowd, CrowdControls, MAX_DETAIL};
 use crate::scene::engine_mix::EngineMix;
+use crate::scene::floor::Floor;
 use crate::scene::gesture::{Gesture, GestureControls};
 use crate::scene::hand::{Hand, HandControls};
 use crate::scene::space::{Space, SpaceControls};
@@ -141,6 +138,8 @@ stages! {
     },
     /// The object's twins, for the physics engine's level match ([`crate::scene::twins`]).
     twins: Twins = |fs, p, _| Twins::new(fs, p),
+    /// The noise floor on the output, after the gain ([`crate::scene::floor`]).
+    floor: Floor = |fs, p, seed| Floor::new(fs, p, seed),
     /// The body EQ on the output, after the gain ([`crate::scene::body_eq`]).
     body_eq: BodyEq = |fs, p, _| BodyEq::new(fs, p),
 }
@@ -539,11 +538,12 @@ impl Voice {
         }
     }
 
-    /// One chunk through the chain of stages, then the body EQ on both channels (a bypass
-    /// when there is no curve or its amount is 0).
+    /// One chunk through the stages, the floor (none when off), the body EQ (or its bypass).
     fn render_chunk(&mut self) {
         self.render_dry_chunk();
-        Stage::process(&mut self.chain.body_eq, (&mut self.sound, &mut self.side));
+        let (c, sound) = (&mut self.chain, 1.0 - self.force_mix.value() as f32);
+        Stage::process(&mut c.floor, (&mut self.sound, &mut self.side, sound));
+        Stage::process(&mut c.body_eq, (&mut self.sound, &mut self.side));
     }
 
     /// One chunk through the chain of stages: the force (engine, gesture, space, extra
