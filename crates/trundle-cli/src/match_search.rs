@@ -524,13 +524,10 @@ fn retry_textures(
         }
     }
     candidates.retain(|q| *q != b.params);
-    if candidates.is_empty() || plan.budget < candidates.len() {
-        return (None, 0);
-    }
-    let n = candidates.len();
-    let js = judge_all(&candidates);
-    let best = js.into_iter().min_by(|x, y| x.loss.total_cmp(&y.loss));
-    (best, n)
+    let best = judge_all(&candidates)
+        .into_iter()
+        .min_by(|x, y| x.loss.total_cmp(&y.loss));
+    (best, candidates.len())
 }
 
 /// Run the search on `pool`, ticking `bar` per candidate: every start is judged

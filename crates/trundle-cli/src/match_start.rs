@@ -24,6 +24,7 @@
 
 use trundle_dsp::analysis::compare::modulation::MODULATION_CENTRES_HZ;
 use trundle_dsp::analysis::compare::Profile;
+use trundle_dsp::analysis::impacts::autocorrelation;
 use trundle_dsp::object::material::Material;
 use trundle_dsp::{ParamId, Params};
 
@@ -174,24 +175,8 @@ pub fn stroke_period(x: &[f64], sample_rate_hz: f64) -> Option<StrokePeriod> {
     for v in &mut e {
         *v = v.max(floor);
     }
-    let mu = e.iter().sum::<f64>() / m as f64;
-    for v in &mut e {
-        *v -= mu;
-    }
-    let r0: f64 = e.iter().map(|v| v * v).sum();
-    if r0 <= 0.0 {
-        return None;
-    }
-    let r: Vec<f64> = (0..=hi + 1)
-        .map(|k| {
-            e[..m - k]
-                .iter()
-                .zip(&e[k..])
-                .map(|(a, b)| a * b)
-                .sum::<f64>()
-                / r0
-        })
-        .collect();
+    // A constant envelope correlates to 0 at every lag: no peak, no period.
+    let r = autocorrelation(&e, hi + 1);
     let mut lowest = f64::INFINITY;
     let mut peaks = Vec::new();
     for k in 1..=hi {
@@ -277,19 +262,19 @@ pub fn estimate(p: &Profile, period: Option<StrokePeriod>) -> Estimate {
         }
     }
     // A strong stroke period: strokes at its exact rate, at least as deep as the share of
-    // the level that comes back every stroke.
-    // Quiet between strokes: the body is lifted off for that share of each.
+    // the level that comes back every stroke. Quiet between strokes: the body is lifted off
+    // for that share of each, at full depth (at depth d the lifted body still presses
+    // 1 − d), and what is heard then is the floor (a room, the machine).
     let mut stroke_lift = None;
     let mut floor = None;
     if let Some(period) = period.filter(|p| p.strength >= STROKE_PERIOD_STRENGTH) {
-        let depth = strokes
-            .map_or(0.0, |s: (f64, f64)| s.0)
-            .max(period.strength.min(1.0));
         stroke_lift = (period.quiet_share > LIFT_QUIET_SHARE).then_some(period.quiet_share);
-        // Between lifted strokes what is heard is the floor (a room, the machine).
         floor = period.floor.filter(|_| stroke_lift.is_some());
-        // Quiet while lifted is full depth (at depth d the lifted body still presses 1 − d).
-        let depth = if stroke_lift.is_some() { 1.0 } else { depth };
+        let depth = if stroke_lift.is_some() {
+            1.0
+        } else {
+            strokes.map_or(0.0, |s| s.0).max(period.strength.min(1.0))
+        };
         strokes = Some((depth, period.rate_hz));
     }
     // Surges: the slowest modulation over the 4 Hz band's; their rate where it has fallen.

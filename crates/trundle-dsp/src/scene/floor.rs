@@ -10,9 +10,10 @@
 //!
 //! Gaussian noise of RMS 10^(`floor_db`/20) (full scale 1) in each channel, through a
 //! one-pole low-pass at `floor_hz` (white below it, falling 6 dB per octave above: a room's
-//! rumble, a motor's hum; its gain restores the set RMS), the two channels independent (a diffuse room: the mono sum, (L + R)/2, is 3 dB under either),
-//! added to the object's output after the gain and before the body EQ, so a matched body EQ
-//! colours it as it does the contact. At `floor_db` ≤ [`FLOOR_OFF_DB`] (the default) the
+//! rumble, a motor's hum; its gain restores the set RMS), the two channels independent (a
+//! diffuse room: the mono sum, (L + R)/2, is 3 dB under either), added to the object's
+//! output after the gain and before the body EQ, so a matched body EQ colours it as it does
+//! the contact. At `floor_db` ≤ [`FLOOR_OFF_DB`] (the default) the
 //! stage does nothing and the voice is as without it, bit for bit. The force output
 //! (`output=force`) has no floor. Deterministic: seeded from the scene's seed, one draw per
 //! channel per sample, whatever the block size.
