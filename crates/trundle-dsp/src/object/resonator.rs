@@ -237,7 +237,7 @@ impl HighGroup {
 #[derive(Clone, Debug)]
 pub struct Object {
     fs: f64,
-    tables: ShapeTables,
+    tables: &'static ShapeTables,
     bank: ModalBank,
     /// Modes whose decay outlasts the f32 bank's precision ([`LONG_MODE_SAMPLES`]).
     long: LongBank,
@@ -303,7 +303,7 @@ pub struct Object {
 impl Object {
     /// An object at `sample_rate_hz` (sanitized).
     pub fn new(sample_rate_hz: f64, c: ObjectControls) -> Self {
-        let tables = ShapeTables::new();
+        let tables = ShapeTables::shared();
         let max_index = Shape::ALL
             .iter()
             .map(|&s| {

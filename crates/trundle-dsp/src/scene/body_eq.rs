@@ -27,6 +27,7 @@
 //!   as the voice runs it, so a voice rendered at `body_eq` 0 and EQ'd offline gives the same
 //!   samples as the voice rendered with the curve.
 
+pub mod cascade;
 pub mod design;
 #[cfg(feature = "presets")]
 pub mod json;
@@ -227,7 +228,7 @@ fn interpolate(bands_hz: &[f64], gain_db: &[f64], f: f64) -> f64 {
 
 /// Filter state of one channel: the two past values at each of the cascade's
 /// `BODY_EQ_BANDS + 1` junctions (direct form I: band k reads junction k, writes k + 1).
-type Junctions = [[f64; 2]; BODY_EQ_BANDS + 1];
+type Junctions = [cascade::Junction; BODY_EQ_BANDS + 1];
 
 /// The body EQ as a stage of the voice (module docs).
 ///
@@ -384,21 +385,19 @@ impl BodyEq {
     }
 }
 
-/// The cascade over one channel's samples (direct form I, f64 inside, the voice's output
-/// rule on the way out).
+/// The cascade over one channel's samples (direct form I, f64 inside, run as a wavefront by
+/// [`cascade::run`], the voice's output rule on the way out).
 fn filter(coef: &[Biquad], state: &mut Junctions, x: &mut [f32]) {
-    for s in x.iter_mut() {
-        let mut v = f64::from(*s);
-        for (k, c) in coef.iter().enumerate() {
-            let [x1, x2] = state[k];
-            let [y1, y2] = state[k + 1];
-            let y = c.b[0] * v + c.b[1] * x1 + c.b[2] * x2 - c.a[0] * y1 - c.a[1] * y2;
-            state[k] = [v, x1];
-            v = y;
+    let mut buf = [0.0f64; CHUNK];
+    for xs in x.chunks_mut(CHUNK) {
+        let b = &mut buf[..xs.len()];
+        for (v, s) in b.iter_mut().zip(xs.iter()) {
+            *v = f64::from(*s);
         }
-        let last = coef.len();
-        state[last] = [v, state[last][0]];
-        *s = flush_output(v as f32);
+        cascade::run(coef, state, b);
+        for (s, v) in xs.iter_mut().zip(b.iter()) {
+            *s = flush_output(*v as f32);
+        }
     }
 }
 

@@ -6,15 +6,19 @@
 //! Here the bank is [`ENVELOPE_BANDS`] brick-wall bands, log-spaced from 100 Hz to 12.7 kHz
 //! (≈ 1.2 octaves each, [`BAND_EDGES_HZ`]): coarser than the paper's 30 ERB bands, as the
 //! judge of issue #25 specifies six, and wide enough that each holds many partials of a
-//! rolling or rubbing sound. Each band is cut out of the whole signal's spectrum, its
-//! analytic signal is formed there (the band's bins and the same bins times −i give the real
-//! part and its Hilbert transform), and the magnitude, compressed, is averaged into
-//! [`ENVELOPE_RATE_HZ`] frames.
+//! rolling or rubbing sound. Each band is cut out of the whole signal's spectrum and its
+//! analytic signal formed from the band's bins alone: shifted down to start at 0 Hz, they are
+//! inverse-transformed at a length of at least four times the band's width (the magnitude
+//! does not change with the shift, and the squared magnitude holds at most twice the band's
+//! width) and at least [`POINTS_PER_FRAME`] points per envelope frame, so the magnitude is
+//! computed exactly at every D-th sample (D a power of two, 4 at 48 kHz) instead of at every
+//! sample. The magnitude, compressed, is averaged into [`ENVELOPE_RATE_HZ`] frames.
 
 use std::cell::RefCell;
 
 use realfft::num_complex::Complex;
 use realfft::RealFftPlanner;
+use rustfft::FftPlanner;
 
 use super::compress::Compressor;
 
@@ -22,6 +26,8 @@ thread_local! {
     /// One planner per thread: `trundle match` analyses hundreds of candidates of the same
     /// length, and a plan's twiddle factors are worth computing once.
     static PLANNER: RefCell<RealFftPlanner<f64>> = RefCell::new(RealFftPlanner::new());
+    /// The bands' short complex inverse transforms, one planner per thread likewise.
+    static COMPLEX_PLANNER: RefCell<FftPlanner<f64>> = RefCell::new(FftPlanner::new());
 }
 
 /// Number of envelope bands.
@@ -33,6 +39,11 @@ pub const BAND_EDGES_HZ: [f64; ENVELOPE_BANDS + 1] =
 pub const ENVELOPE_RATE_HZ: f64 = 400.0;
 /// The compressive exponent applied to each envelope sample (the paper's 0.3).
 pub const COMPRESSION: f64 = 0.3;
+/// Fewest magnitude points averaged into one envelope frame (30 of a 2.5 ms frame's 120
+/// samples at 48 kHz). Measured on the texture corpus's matches against every sample's
+/// magnitude: the modulation distance moves by at most 0.03 dB (0.1 dB with 8 points, on
+/// the bowed strings), the texture distance by at most 0.01 units, for 3 % more time.
+pub const POINTS_PER_FRAME: f64 = 16.0;
 
 /// A signal's band envelopes.
 #[derive(Clone, Debug, PartialEq)]
@@ -82,10 +93,7 @@ pub fn envelope_edges_hz(top_hz: f64) -> Vec<(f64, f64)> {
 pub fn band_envelopes(x: &[f64], sample_rate_hz: f64, top_hz: f64) -> BandEnvelopes {
     let edges_hz = envelope_edges_hz(top_hz.min(0.5 * sample_rate_hz));
     let n = x.len().max(2).next_power_of_two();
-    let (forward, inverse) = PLANNER.with(|p| {
-        let mut planner = p.borrow_mut();
-        (planner.plan_fft_forward(n), planner.plan_fft_inverse(n))
-    });
+    let forward = PLANNER.with(|p| p.borrow_mut().plan_fft_forward(n));
     let compressor = Compressor::new();
     let mut buf = forward.make_input_vec();
     buf[..x.len()].copy_from_slice(x);
@@ -96,41 +104,36 @@ pub fn band_envelopes(x: &[f64], sample_rate_hz: f64, top_hz: f64) -> BandEnvelo
     let bin_hz = sample_rate_hz / n as f64;
     let frame = sample_rate_hz / ENVELOPE_RATE_HZ;
     let frames = (x.len() as f64 / frame).floor() as usize;
-    let mut band = inverse.make_input_vec();
-    let mut re = inverse.make_output_vec();
-    let mut im = inverse.make_output_vec();
+    // Points are taken every `step` samples: the largest power of two that leaves
+    // POINTS_PER_FRAME in a frame.
+    let max_step = 1usize << (frame / POINTS_PER_FRAME).max(1.0).log2().floor() as u32;
     let last = spec.len() - 1;
     let bands = edges_hz
         .iter()
         .map(|&(lo, hi)| {
-            // The band's bins (never DC nor Nyquist: the inverse real FFT needs them real).
+            // The band's bins (never DC nor Nyquist, as the real spectrum's band needs).
             let k_lo = ((lo / bin_hz).ceil() as usize).max(1);
-            let k_hi = ((hi / bin_hz).ceil() as usize).min(last);
-            let mut inverse_of = |rotate: bool, out: &mut Vec<f64>| {
-                band.iter_mut().for_each(|c| *c = Complex::new(0.0, 0.0));
-                for k in k_lo..k_hi {
-                    // −i·X for the Hilbert transform of the band.
-                    band[k] = if rotate {
-                        Complex::new(spec[k].im, -spec[k].re)
-                    } else {
-                        spec[k]
-                    };
-                }
-                inverse
-                    .process(&mut band, out)
-                    .expect("buffers from the plan");
-            };
-            inverse_of(false, &mut re);
-            inverse_of(true, &mut im);
-            let scale2 = (1.0 / n as f64).powi(2);
+            let k_hi = ((hi / bin_hz).ceil() as usize).min(last).max(k_lo);
+            let width = k_hi - k_lo;
+            let m = (n / max_step).max((4 * width).next_power_of_two()).min(n);
+            let step = n / m;
+            let fft = COMPLEX_PLANNER.with(|p| p.borrow_mut().plan_fft_inverse(m));
+            let mut z = vec![Complex::new(0.0, 0.0); m];
+            z[..width].copy_from_slice(&spec[k_lo..k_hi]);
+            fft.process(&mut z);
+            // The real inverse of the band alone is 2·Re of this sum and its Hilbert
+            // transform 2·Im, both unscaled: the magnitude squared is 4|z|²/n².
+            let scale2 = 4.0 / (n as f64 * n as f64);
             (0..frames)
                 .map(|f| {
                     let a = (f as f64 * frame) as usize;
                     let b = (((f + 1) as f64 * frame) as usize).min(x.len());
-                    let sum: f64 = (a..b)
-                        .map(|i| compressor.of_squared(scale2 * (re[i] * re[i] + im[i] * im[i])))
+                    let (p, q) = (a.div_ceil(step), b.div_ceil(step));
+                    let sum: f64 = z[p..q]
+                        .iter()
+                        .map(|c| compressor.of_squared(scale2 * c.norm_sqr()))
                         .sum();
-                    sum / (b - a).max(1) as f64
+                    sum / (q - p).max(1) as f64
                 })
                 .collect()
         })

@@ -5,6 +5,54 @@
 
 use crate::analysis::third_octave::centres_between_hz;
 use realfft::RealFftPlanner;
+use std::cell::RefCell;
+use std::sync::Arc;
+
+thread_local! {
+    /// One planner and the last Hann window per thread: `trundle match` analyses hundreds
+    /// of candidates at the same frame length, and the FFT's twiddles and the window's
+    /// cosines are worth computing once (8 % of a search's time, measured with perf).
+    static PLANNER: RefCell<RealFftPlanner<f64>> = RefCell::new(RealFftPlanner::new());
+    static WINDOW: RefCell<Option<Arc<Vec<f64>>>> = const { RefCell::new(None) };
+}
+
+/// The Hann window of `len` samples, from the thread's cache.
+fn hann(len: usize) -> Arc<Vec<f64>> {
+    WINDOW.with(|w| {
+        let mut w = w.borrow_mut();
+        match w.as_ref() {
+            Some(win) if win.len() == len => win.clone(),
+            _ => {
+                let win = Arc::new(crate::analysis::stft::hann(len));
+                *w = Some(win.clone());
+                win
+            }
+        }
+    })
+}
+
+/// Bins `k` with `lo ≤ k·bin_hz < hi`, the same test per bin as a scan of them all.
+fn bins_between(lo: f64, hi: f64, bin_hz: f64, bins: usize) -> core::ops::Range<usize> {
+    let inside = |k: usize| {
+        let f = k as f64 * bin_hz;
+        f >= lo && f < hi
+    };
+    let first = |edge: f64, below: &dyn Fn(usize) -> bool| {
+        // The first bin at or above `edge`: a guess, moved until the test holds exactly.
+        let mut k = ((edge / bin_hz).floor().max(0.0) as usize).min(bins);
+        while k > 0 && !below(k - 1) {
+            k -= 1;
+        }
+        while k < bins && below(k) {
+            k += 1;
+        }
+        k
+    };
+    let a = first(lo, &|k| (k as f64 * bin_hz) < lo);
+    let b = first(hi, &|k| (k as f64 * bin_hz) < hi).max(a);
+    debug_assert!((a..b).all(inside));
+    a..b
+}
 
 /// Lowest third-octave centre compared (Hz): below, handling noise and rumble dominate real
 /// recordings and a rolling model has nothing to say.
@@ -27,8 +75,8 @@ pub fn long_term_spectrum(x: &[f64], sample_rate_hz: f64, top_hz: f64) -> LongTe
         .next_power_of_two()
         .min(x.len().max(64).next_power_of_two());
     let hop = len / 2;
-    let fft = RealFftPlanner::<f64>::new().plan_fft_forward(len);
-    let win = crate::analysis::stft::hann(len);
+    let fft = PLANNER.with(|p| p.borrow_mut().plan_fft_forward(len));
+    let win = hann(len);
     let mut buf = fft.make_input_vec();
     let mut spec = fft.make_output_vec();
     let mut power = vec![0.0; spec.len()];
@@ -53,14 +101,8 @@ pub fn long_term_spectrum(x: &[f64], sample_rate_hz: f64, top_hz: f64) -> LongTe
         .iter()
         .map(|&c| {
             let (lo, hi) = (c * 2f64.powf(-1.0 / 6.0), c * 2f64.powf(1.0 / 6.0));
-            power
+            power[bins_between(lo, hi, bin_hz, power.len())]
                 .iter()
-                .enumerate()
-                .filter(|(k, _)| {
-                    let f = *k as f64 * bin_hz;
-                    f >= lo && f < hi
-                })
-                .map(|(_, p)| p)
                 .sum::<f64>()
         })
         .collect();
