@@ -41,6 +41,7 @@ mod level;
 mod list;
 mod match_cmd;
 mod match_pitch;
+mod match_recheck;
 mod match_search;
 mod match_space;
 mod match_start;

@@ -75,8 +75,9 @@ pub struct MatchArgs {
     /// Seeds every candidate is rendered at (its loss is ½(mean + max) over them).
     #[arg(long, default_value_t = 2)]
     pub seeds: u32,
-    /// Candidates judged in all (each rendered at every seed).
-    #[arg(long, default_value_t = 160)]
+    /// Candidates judged in all (each rendered at every seed; the six best judged again at
+    /// two more seeds count twice).
+    #[arg(long, default_value_t = 256)]
     pub budget: usize,
     /// Threads (0: every core).
     #[arg(long, default_value_t = 1)]

@@ -13,10 +13,12 @@
 //! ```
 
 use crate::match_pitch::{friction_dims, TEXTURE_LOSS};
+use crate::match_recheck::{keep_finalists, recheck, FINALISTS, RECHECK_SEEDS};
 use crate::match_space::{self, apply_eq, Dim, EqCurve, MAX_EQ_DB};
 use crate::match_start::Estimate;
 use indicatif::ProgressBar;
 use rayon::prelude::*;
+use std::cell::RefCell;
 use std::sync::Arc;
 use trundle_dsp::analysis::compare::noise::shaped_noise;
 use trundle_dsp::analysis::compare::spectrum::{
@@ -532,10 +534,12 @@ fn retry_textures(
 
 /// Run the search on `pool`, ticking `bar` per candidate: every start is judged
 /// (screening), the best is improved by the coordinate sweeps, then CMA-ES runs from it with
-/// what is left of the budget, and from the next best start if it stops early.
+/// what is left of the budget, and from the next best start if it stops early; the
+/// [`FINALISTS`] best are judged again at more seeds ([`recheck`]) and the steadiest wins.
 pub fn search(target: &Target, plan: &Plan, pool: &rayon::ThreadPool, bar: &ProgressBar) -> Found {
+    let finalists = RefCell::new(Vec::with_capacity(FINALISTS + 1));
     let judge_all = |ps: &[Params]| -> Vec<Judged> {
-        pool.install(|| {
+        let judged: Vec<Judged> = pool.install(|| {
             ps.par_iter()
                 .map(|p| {
                     let j = judge(target, p, &plan.seeds, None);
@@ -543,7 +547,9 @@ pub fn search(target: &Target, plan: &Plan, pool: &rayon::ThreadPool, bar: &Prog
                     j
                 })
                 .collect()
-        })
+        });
+        keep_finalists(&mut finalists.borrow_mut(), &judged);
+        judged
     };
     let mut screened: Vec<Judged> = judge_all(&plan.starts);
     let mut evaluations = screened.len();
@@ -591,10 +597,14 @@ pub fn search(target: &Target, plan: &Plan, pool: &rayon::ThreadPool, bar: &Prog
         }
         screened[0] = b;
     }
-    // The CMA-ES leaves room for the textures' last try (three action corners).
+    // The CMA-ES leaves room for the textures' last try (three action corners) and for
+    // the finalists' recheck (each judged again at twice the seeds, or more).
+    let recheck_cost =
+        FINALISTS * (plan.seeds.len() + RECHECK_SEEDS.len()).div_ceil(plan.seeds.len().max(1));
     let budget = plan
         .budget
-        .saturating_sub(if plan.textures.is_some() { 3 } else { 0 });
+        .saturating_sub(if plan.textures.is_some() { 3 } else { 0 })
+        .saturating_sub(recheck_cost);
     for (k, start) in screened.iter().enumerate() {
         if best.as_ref().is_some_and(|b| b.loss <= plan.target_loss) || evaluations >= budget {
             break;
@@ -649,6 +659,10 @@ pub fn search(target: &Target, plan: &Plan, pool: &rayon::ThreadPool, bar: &Prog
         if let Some(j) = tried.filter(|j| j.loss < best.loss) {
             best = j;
         }
+    }
+    if let Some((steadiest, n)) = recheck(target, plan, finalists.take(), pool, bar) {
+        evaluations += n;
+        best = steadiest;
     }
     Found { best, evaluations }
 }
