@@ -8,6 +8,9 @@
 #   WIDTHxHEIGHT   resize the window to this size before the capture (default: the editor's
 #                  own default size), to check that the layout scales
 #
+# CLICK="X,Y" clicks the editor at X,Y (window pixels) before the capture: CLICK=198,383
+# shows the MOTION page at the default size (docs/editor-motion.png).
+#
 # Debian/Ubuntu: installs what it needs with apt-get when it is missing (run as root, or
 # install the packages listed below yourself). Honors CARGO_TARGET_DIR.
 set -euo pipefail
@@ -84,6 +87,10 @@ if [[ -z "$win" ]]; then
 fi
 if [[ -n "$size" ]]; then
     xdotool windowsize "$win" "${size%x*}" "${size#*x}"
+fi
+if [[ -n "${CLICK:-}" ]]; then
+    sleep 1
+    xdotool mousemove --window "$win" "${CLICK%,*}" "${CLICK#*,}" click 1
 fi
 # Let the ball roll and the spectrum's smoothing settle.
 sleep "$settle_s"

@@ -10,7 +10,9 @@
 //! ```
 //!
 //! A section's selectors stand in a column on its left, its knobs follow in table order,
-//! each with the value and its unit under it. A knob whose row does nothing in the current
+//! each with the value and its unit under it. When one row would make the knobs narrower
+//! than [`MIN_UNIT_PX`], every section's knobs wrap onto two rows (three at most): at the
+//! editor's default size, two. A knob whose row does nothing in the current
 //! scene (the drop's height under `roll`, the path time on a path without gravity, the
 //! crowd's spread for one ball…) is drawn dimmed; it still turns, so a scene can be set up
 //! before it is switched on.
@@ -47,46 +49,43 @@ impl TrundleEditor {
         let s = t.scale;
         let gap = 10.0 * s;
         let pad = 10.0 * s;
-        let units = |ids: &[ParamId]| -> f32 {
-            ids.iter()
-                .map(|&id| if is_enum(id) { SELECTOR_UNITS } else { 1.0 })
-                .sum()
-        };
-        let total: f32 = sections.iter().map(|(_, ids)| units(ids)).sum();
-        let n = sections.len() as f32;
-        let unit = (area.width() - (n - 1.0) * gap - n * 2.0 * pad) / total.max(1.0);
+        let (rows, unit) = knob_layout(&sections, area.width(), gap, pad, s);
         let mut x = area.left();
         for (i, (section, ids)) in sections.iter().enumerate() {
             let w = if i + 1 == sections.len() {
                 area.right() - x
             } else {
-                units(ids) * unit + 2.0 * pad
+                section_units(ids, rows) * unit + 2.0 * pad
             };
             let rect = Rect::from_min_size(Pos2::new(x, area.top()), Vec2::new(w, area.height()));
             x += w + gap;
             let title = section.title().to_uppercase();
             let body = panel(ui, rect, &title, None, t);
-            self.motion_section(ui, body, unit, (*section, ids), setter, t);
+            self.motion_section(ui, body, (unit, rows), (*section, ids), setter, t);
         }
     }
 
-    /// One section: its selectors in columns on the left, then its knobs.
+    /// One section: its selectors in columns on the left, then its knobs in `rows` rows of
+    /// cells `unit` wide.
     fn motion_section(
         &self,
         ui: &mut egui::Ui,
         body: Rect,
-        unit: f32,
+        (unit, rows): (f32, usize),
         (section, ids): (Section, &[ParamId]),
         setter: &ParamSetter,
         t: &Theme,
     ) {
-        // The knobs' band: as tall as a knob of a cell's width needs, centred.
-        let h = body.height().min(
+        // A row of knobs: as tall as a knob of a cell's width needs; the rows centred.
+        let h = (body.height() / rows as f32).min(
             2.0 * knob::KNOB_RADIUS_PER_WIDTH * unit + t.font_small * 1.5 + t.font_value * 1.6,
         );
         let band = Rect::from_min_size(
-            Pos2::new(body.left(), body.top() + 0.5 * (body.height() - h)),
-            Vec2::new(body.width(), h),
+            Pos2::new(
+                body.left(),
+                body.top() + 0.5 * (body.height() - rows as f32 * h),
+            ),
+            Vec2::new(body.width(), rows as f32 * h),
         );
         let mut live = Params::default();
         self.params.to_dsp(&mut live);
@@ -112,11 +111,14 @@ impl TrundleEditor {
                 widgets::selector(ui, control, p, setter, true, spec.doc, t);
             }
         }
-        for &id in ids.iter().filter(|&&id| !is_enum(id)) {
+        let knobs: Vec<ParamId> = ids.iter().copied().filter(|&id| !is_enum(id)).collect();
+        let per_row = knobs.len().div_ceil(rows).max(1);
+        for (i, &id) in knobs.iter().enumerate() {
             let spec = id.spec();
-            let cell = Rect::from_min_size(Pos2::new(x, band.top()), Vec2::new(unit, h))
+            let (row, col) = (i / per_row, i % per_row);
+            let corner = Pos2::new(x + col as f32 * unit, band.top() + row as f32 * h);
+            let cell = Rect::from_min_size(corner, Vec2::new(unit, h))
                 .shrink2(Vec2::new(2.0 * t.scale, 0.0));
-            x += unit;
             let (label, doc) = (spec.place.label, spec.doc);
             match self.params.get(id) {
                 TableParam::Float(p) => knob::knob(ui, cell, p, setter, label, doc, t),
@@ -129,6 +131,50 @@ impl TrundleEditor {
             }
         }
     }
+}
+
+/// Narrowest knob cell (px at scale 1) before the page's knobs wrap onto another row: a
+/// knob's value ("30.000 cm") needs about this much, and a selector column (1.35 cells) its
+/// longest choice ("normal", "finger"). At the editor's default 880 px the 24 knobs and 3
+/// selectors in one row got 25 px cells, their labels overlapping and the quality selector
+/// cut off; two rows give 43 px (screenshot under Xvfb: every label and value readable; at
+/// 56 px, three rows, the knobs shrank to dots).
+const MIN_UNIT_PX: f32 = 42.0;
+
+/// Most rows of knobs the page wraps onto.
+const MAX_KNOB_ROWS: usize = 3;
+
+/// Width of a section laid out on `rows` rows of knobs, in knob cells: its selector columns
+/// and its widest row.
+fn section_units(ids: &[ParamId], rows: usize) -> f32 {
+    let selectors = ids.iter().filter(|&&id| is_enum(id)).count();
+    let knobs = ids.len() - selectors;
+    selectors as f32 * SELECTOR_UNITS + knobs.div_ceil(rows.max(1)) as f32
+}
+
+/// The fewest rows of knobs (up to [`MAX_KNOB_ROWS`]) whose cells are at least
+/// [`MIN_UNIT_PX`] × `scale` wide across `width` px (sections `gap` apart, each padded by
+/// `pad` on both sides), and that cell width.
+fn knob_layout(
+    sections: &[(Section, Vec<ParamId>)],
+    width: f32,
+    gap: f32,
+    pad: f32,
+    scale: f32,
+) -> (usize, f32) {
+    let n = sections.len() as f32;
+    let room = width - (n - 1.0) * gap - n * 2.0 * pad;
+    let unit_at = |rows: usize| {
+        let units: f32 = sections
+            .iter()
+            .map(|(_, ids)| section_units(ids, rows))
+            .sum();
+        room / units.max(1.0)
+    };
+    (1..=MAX_KNOB_ROWS)
+        .map(|rows| (rows, unit_at(rows)))
+        .find(|&(rows, unit)| unit >= MIN_UNIT_PX * scale || rows == MAX_KNOB_ROWS)
+        .unwrap_or((MAX_KNOB_ROWS, unit_at(MAX_KNOB_ROWS)))
 }
 
 /// The motion page's sections, in [`Section`] order, each with its rows in table order.
@@ -184,6 +230,19 @@ mod tests {
             assert!(!ids.is_empty(), "{s:?}");
             assert!(ids.iter().filter(|&&id| is_enum(id)).count() <= 1, "{s:?}");
         }
+    }
+
+    /// At the editor's default width the knobs wrap onto two rows, wide enough for their
+    /// values; at 2000 px they stand in one row.
+    #[test]
+    fn the_knobs_wrap_when_a_row_would_crowd_them() {
+        let sections = motion_sections();
+        let (rows, unit) = knob_layout(&sections, 850.0, 10.0, 10.0, 1.0);
+        assert_eq!(rows, 2);
+        assert!(unit >= MIN_UNIT_PX, "{unit}");
+        let (rows, unit) = knob_layout(&sections, 2000.0, 10.0, 10.0, 1.0);
+        assert_eq!(rows, 1);
+        assert!(unit >= MIN_UNIT_PX, "{unit}");
     }
 
     #[test]
