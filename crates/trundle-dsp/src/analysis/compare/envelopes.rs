@@ -23,9 +23,10 @@ use rustfft::FftPlanner;
 use super::compress::Compressor;
 
 thread_local! {
-    /// One planner per thread: `trundle match` analyses hundreds of candidates of the same
-    /// length, and a plan's twiddle factors are worth computing once.
-    static PLANNER: RefCell<RealFftPlanner<f64>> = RefCell::new(RealFftPlanner::new());
+    /// One planner per thread, shared with the long-term spectrum: `trundle match` analyses
+    /// hundreds of candidates of the same length, and a plan's twiddle factors are worth
+    /// computing once.
+    pub(super) static PLANNER: RefCell<RealFftPlanner<f64>> = RefCell::new(RealFftPlanner::new());
     /// The bands' short complex inverse transforms, one planner per thread likewise.
     static COMPLEX_PLANNER: RefCell<FftPlanner<f64>> = RefCell::new(FftPlanner::new());
 }

@@ -3,16 +3,16 @@
 //! What a listener hears as the sound's colour; what the issue #25 judge holds within
 //! [`super::SPECTRUM_LIMIT_DB`] (root mean square of the level differences).
 
+use super::envelopes::PLANNER;
 use crate::analysis::third_octave::centres_between_hz;
-use realfft::RealFftPlanner;
 use std::cell::RefCell;
 use std::sync::Arc;
 
 thread_local! {
-    /// One planner and the last Hann window per thread: `trundle match` analyses hundreds
-    /// of candidates at the same frame length, and the FFT's twiddles and the window's
-    /// cosines are worth computing once (8 % of a search's time, measured with perf).
-    static PLANNER: RefCell<RealFftPlanner<f64>> = RefCell::new(RealFftPlanner::new());
+    /// The last Hann window per thread: `trundle match` analyses hundreds of candidates at
+    /// the same frame length, and the window's cosines, like the FFT's twiddles (the
+    /// planner shared with the band envelopes), are worth computing once (8 % of a search's
+    /// time, measured with perf).
     static WINDOW: RefCell<Option<Arc<Vec<f64>>>> = const { RefCell::new(None) };
 }
 
