@@ -9,9 +9,12 @@
 //! * **still**: the force's fluctuation is below 1 % of (μ_s − μ_c)·N, the swing of a
 //!   stick-slip, or dies away over the quarter second (the onset ringing out): a steady
 //!   slide (above a few Stribeck velocities nothing feeds a mode);
-//! * **mode k**: the fundamental (the lowest spectral peak within 20 dB of the strongest)
-//!   lies within 1 % of mode k and at least half the fluctuation's energy sits on its
-//!   harmonics (±1 % each): a periodic stick-slip locked on that mode;
+//! * **mode k**: at least half the fluctuation's energy sits on mode k's harmonics (±1 %
+//!   each): a periodic stick-slip on that mode's period (of the modes whose harmonics hold
+//!   within 5 % of the largest share, the highest: a series on f is also one on f/2's).
+//!   Read from the period, not from the lowest strong peak: a bowed string's force at the
+//!   bow puts its 3rd partial 20 dB over its 1st, and under the peak rule its Helmholtz
+//!   motion read as noisy everywhere;
 //! * **noisy**: anything else (raucous, multi-periodic, chaotic).
 //!
 //! Prints the map as text (one line per pressure) and draws it (plotters, 900×560).
@@ -76,7 +79,7 @@ pub fn classify(p: &Params, pressure_n: f64, speed_m_s: f64, modes: &[f64]) -> (
     let mut o = Object::new(FS, object_controls(p));
     o.set_ball((p.get(ParamId::PositionX), p.get(ParamId::PositionY)));
     let mut c = Friction::new(FS);
-    c.set_mass(contact_mass_kg(p.get(ParamId::ObjectSize)));
+    c.set_mass(contact_mass_kg(p.shape(), p.get(ParamId::ObjectSize)));
     let body = FrictionBody::of(p.rub_body());
     c.set_contact(body, pressure_n);
     c.set_object_modes(o.modes());
@@ -106,35 +109,46 @@ pub fn classify(p: &Params, pressure_n: f64, speed_m_s: f64, modes: &[f64]) -> (
     }
     let power: Vec<f64> = spec.iter().map(|c| c.norm_sqr()).collect();
     let df = FS / n as f64;
-    let (lo, hi) = ((50.0 / df) as usize, power.len() - 2);
-    let top = power[lo..hi].iter().cloned().fold(0.0, f64::max);
-    let Some(k) = (lo..hi)
-        .find(|&k| power[k] >= 0.01 * top && power[k] >= power[k - 1] && power[k] >= power[k + 1])
-    else {
+    let lo = (50.0 / df) as usize;
+    let total: f64 = power[lo.min(power.len())..].iter().sum();
+    if total.is_nan() || total <= 0.0 {
         return (Cell::Noisy, 0.0);
-    };
-    let (l, m, r) = (power[k - 1].ln(), power[k].ln(), power[k + 1].ln());
-    let f0 = (k as f64 + 0.5 * (l - r) / (l - 2.0 * m + r)) * df;
-    let total: f64 = power[lo..].iter().sum();
-    let mut on_harmonics = 0.0;
-    let mut h = 1.0;
-    while h * f0 < 0.45 * FS {
-        let (a, b) = (
-            (0.99 * h * f0 / df) as usize,
-            (1.01 * h * f0 / df) as usize + 1,
-        );
-        on_harmonics += power[a.max(lo)..b.min(power.len())].iter().sum::<f64>();
-        h += 1.0;
     }
-    let nearest = modes
+    // The share of the fluctuation's power on the harmonics (±1 % each) of `f`.
+    let share = |f: f64| -> f64 {
+        if f.is_nan() || f <= 0.0 {
+            return 0.0;
+        }
+        let mut on = 0.0;
+        let mut h = 1.0;
+        while h * f < 0.45 * FS {
+            let (a, b) = (
+                (0.99 * h * f / df) as usize,
+                (1.01 * h * f / df) as usize + 1,
+            );
+            on += power[a.max(lo).min(power.len())..b.min(power.len())]
+                .iter()
+                .sum::<f64>();
+            h += 1.0;
+        }
+        on / total
+    };
+    // Periodic on a mode's period: the mode whose harmonics hold the most of the power; of
+    // those within 5 % of that share the highest (a series on f is also on f/2's, so the
+    // highest that holds it is the period). Read this way, not from the spectrum's lowest
+    // strong peak, a bowed string's Helmholtz motion, whose force at the bow puts its 3rd
+    // partial 20 dB over its 1st, reads as locked on its first mode.
+    let shares: Vec<f64> = modes.iter().map(|&f| share(f)).collect();
+    let best = shares.iter().cloned().fold(0.0, f64::max);
+    let locked = modes
         .iter()
+        .zip(&shares)
         .enumerate()
-        .map(|(i, &fm)| (i, (f0 / fm - 1.0).abs()))
-        .fold((0, f64::INFINITY), |a, b| if b.1 < a.1 { b } else { a });
-    if nearest.1 < 0.01 && on_harmonics > 0.5 * total {
-        (Cell::Mode(nearest.0), f0)
-    } else {
-        (Cell::Noisy, f0)
+        .filter(|(_, (_, &s))| s >= 0.95 * best)
+        .max_by(|a, b| a.1 .0.total_cmp(b.1 .0));
+    match locked {
+        Some((k, (&f, &s))) if s > 0.5 => (Cell::Mode(k), f),
+        _ => (Cell::Noisy, 0.0),
     }
 }
 
@@ -321,4 +335,43 @@ fn draw(
     }
     tmp.persist(path, true)
         .map_err(|e| failure(format!("cannot write {shown}: {e:?}")))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The contact's mode frequencies for `p`, as `run` lists them.
+    fn modes_of(p: &Params) -> Vec<f64> {
+        let mut o = Object::new(FS, object_controls(p));
+        o.set_ball((p.get(ParamId::PositionX), p.get(ParamId::PositionY)));
+        let mut probe = Friction::new(FS);
+        probe.set_object_modes(o.modes());
+        o.modes()
+            .iter()
+            .filter(|m| m.gain != 0.0 && m.freq_hz < 0.49 * FS)
+            .take(probe.mode_count())
+            .map(|m| m.freq_hz)
+            .collect()
+    }
+
+    /// The bowed string at its preset's pressure and speed moves in Helmholtz motion: on its
+    /// first mode's period (its force's 3rd partial is the strongest, so the old reading from
+    /// the lowest strong peak called it noisy); the glass under a light finger locks its
+    /// breathing pair, and a fast slide is still.
+    #[test]
+    fn cells_read_the_period_the_contact_moves_on() {
+        let string = Preset::builtin("bowed-string").unwrap().params;
+        let m = modes_of(&string);
+        let (cell, f) = classify(&string, 0.3, 0.1, &m);
+        assert_eq!(cell, Cell::Mode(0), "{f:.1} Hz");
+        let glass = Preset::builtin("finger-on-wine-glass").unwrap().params;
+        let m = modes_of(&glass);
+        let (cell, f) = classify(&glass, 0.1, 0.1, &m);
+        assert!(
+            matches!(cell, Cell::Mode(0) | Cell::Mode(1)),
+            "{cell:?} {f:.1} Hz"
+        );
+        assert_eq!(classify(&glass, 0.2, 1.0, &m).0, Cell::Still);
+    }
 }

@@ -36,7 +36,7 @@ fn contact(p: &Params, fs: f64) -> Friction {
     let mut o = Object::new(fs, object_controls(p));
     o.set_ball((p.get(ParamId::PositionX), p.get(ParamId::PositionY)));
     let mut f = Friction::new(fs);
-    f.set_mass(contact_mass_kg(p.get(ParamId::ObjectSize)));
+    f.set_mass(contact_mass_kg(p.shape(), p.get(ParamId::ObjectSize)));
     f.set_contact(FrictionBody::of(p.rub_body()), p.get(ParamId::PressureN));
     f.set_object_modes(o.modes());
     f

@@ -19,7 +19,7 @@
 //! contact: the mode shape at the ball as the object plays it, normalized to 1 for the
 //! strongest mode) obeys ẍ_k + (2/τ_k)·ẋ_k + ω_k²·x_k = −w_k·f/M, and the object's velocity
 //! at the contact is v_o = Σ w_k·ẋ_k. M, the object's effective mass at the contact, grows
-//! with its area: [`contact_mass_kg`].
+//! with its area (a string's with its length): [`contact_mass_kg`].
 //!
 //! **Integration.** Every mode and the bristle are discretized by the trapezoidal rule
 //! (bilinear, frequencies pre-warped so each discrete mode rings exactly at f_k at every
@@ -38,6 +38,7 @@
 //! [`FRICTION_MODES_MAX`] modes).
 
 use crate::object::resonator::ModeInfo;
+use crate::params::Shape;
 use crate::physics::friction_body::FrictionBody;
 use crate::physics::STATE_FLUSH;
 use core::f64::consts::PI;
@@ -52,12 +53,29 @@ pub const NEWTON_ITERATIONS: usize = 8;
 /// Relative velocities are clamped to ± this (m/s): far above any rubbing speed.
 const MAX_VELOCITY_M_S: f64 = 50.0;
 
-/// The object's effective (modal) mass at the contact for an object of `size_m` metres:
-/// 0.1 kg·(size/1 m)² (a thin plate's or shell's mass grows with its area), bounded to
-/// 0.2 g … 2.5 kg. A 15 cm glass is 2.3 g (a thin rim moving in its first mode).
-pub fn contact_mass_kg(size_m: f64) -> f64 {
-    (0.1 * size_m * size_m).clamp(MASS_MIN_KG, MASS_MAX_KG)
+/// The object's effective (modal) mass at the contact for an object of `shape` and
+/// `size_m` metres, bounded to 0.2 g … 2.5 kg:
+///
+/// * a plate, a shell or a bar: 0.1 kg·(size/1 m)² (a thin plate's or shell's mass grows
+///   with its area). A 15 cm glass is 2.3 g (a thin rim moving in its first mode);
+/// * a string: [`STRING_KG_PER_M`]·size, its length times its linear density (a string's
+///   mass grows with its length only). Under the area law a 1 m string weighed 100 g, 100
+///   times a steel string's, and no bow force in the pressure control's range reached
+///   Schelleng's minimum for Helmholtz motion (the least force grows as the string's
+///   impedance squared, Schelleng 1973): bowed at 1/8 of its length over 0.3–10 N and
+///   0.05–0.3 m/s, the fundamental led at 1 of 12 points, a higher partial (mostly the
+///   octave) at the rest.
+pub fn contact_mass_kg(shape: Shape, size_m: f64) -> f64 {
+    let m = match shape {
+        Shape::String => STRING_KG_PER_M * size_m,
+        Shape::Bar | Shape::Plate | Shape::Shell => 0.1 * size_m * size_m,
+    };
+    m.clamp(MASS_MIN_KG, MASS_MAX_KG)
 }
+
+/// A string's mass per metre (kg/m): 1 g/m, a steel string's (a cello's A string 0.6 g/m, a
+/// guitar's strings 0.4–7 g/m). A 1 m string (100 Hz at the default material) weighs 1 g.
+pub const STRING_KG_PER_M: f64 = 1e-3;
 
 /// The contact mass's bounds (kg).
 const MASS_MIN_KG: f64 = 2e-4;
@@ -168,7 +186,7 @@ impl Friction {
             x: [0.0; FRICTION_MODES_MAX],
             u: [0.0; FRICTION_MODES_MAX],
             b: 0.0,
-            mass_kg: contact_mass_kg(1.0),
+            mass_kg: contact_mass_kg(Shape::Plate, 1.0),
             body: FrictionBody::of(crate::params::RubBody::Finger),
             normal_n: 1.0,
             z: 0.0,

@@ -213,7 +213,10 @@ impl EngineMix {
             FrictionBody::of(params.rub_body()),
             params.get(ParamId::PressureN),
         );
-        f.set_mass(contact_mass_kg(params.get(ParamId::ObjectSize)));
+        f.set_mass(contact_mass_kg(
+            params.shape(),
+            params.get(ParamId::ObjectSize),
+        ));
     }
 
     /// The stick-slip contact, for inspection.
