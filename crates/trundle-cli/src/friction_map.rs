@@ -74,8 +74,25 @@ fn axes(cells: usize) -> (Vec<f64>, Vec<f64>) {
     (logspace(0.05, 20.0), logspace(0.01, 1.0))
 }
 
-/// Classify one cell (module docs); `modes` are the contact's mode frequencies.
-pub fn classify(p: &Params, pressure_n: f64, speed_m_s: f64, modes: &[f64]) -> (Cell, f64) {
+/// The frequencies (Hz) of the modes the contact takes part in for `p`, as the voice sets
+/// them up: the object's audible modes at the ball below 0.49·f_s, at most as many as the
+/// contact holds.
+pub fn contact_modes(p: &Params) -> Vec<f64> {
+    let mut o = Object::new(FS, object_controls(p));
+    o.set_ball((p.get(ParamId::PositionX), p.get(ParamId::PositionY)));
+    let mut probe = Friction::new(FS);
+    probe.set_object_modes(o.modes());
+    o.modes()
+        .iter()
+        .filter(|m| m.gain != 0.0 && m.freq_hz < 0.49 * FS)
+        .take(probe.mode_count())
+        .map(|m| m.freq_hz)
+        .collect()
+}
+
+/// Classify one cell (module docs); `modes` are the contact's mode frequencies
+/// ([`contact_modes`]).
+pub fn classify(p: &Params, pressure_n: f64, speed_m_s: f64, modes: &[f64]) -> Cell {
     let mut o = Object::new(FS, object_controls(p));
     o.set_ball((p.get(ParamId::PositionX), p.get(ParamId::PositionY)));
     let mut c = Friction::new(FS);
@@ -96,7 +113,7 @@ pub fn classify(p: &Params, pressure_n: f64, speed_m_s: f64, modes: &[f64]) -> (
     // only the onset's ringing dying away.
     let swing = (body.static_mu - body.coulomb_mu) * pressure_n;
     if !(first.is_finite() && second.is_finite()) || second < 0.01 * swing || second < 0.8 * first {
-        return (Cell::Still, 0.0);
+        return Cell::Still;
     }
     let mut planner = RealFftPlanner::<f64>::new();
     let fft = planner.plan_fft_forward(n);
@@ -105,14 +122,14 @@ pub fn classify(p: &Params, pressure_n: f64, speed_m_s: f64, modes: &[f64]) -> (
     }
     let mut spec = fft.make_output_vec();
     if fft.process(&mut x, &mut spec).is_err() {
-        return (Cell::Noisy, 0.0);
+        return Cell::Noisy;
     }
     let power: Vec<f64> = spec.iter().map(|c| c.norm_sqr()).collect();
     let df = FS / n as f64;
     let lo = (50.0 / df) as usize;
     let total: f64 = power[lo.min(power.len())..].iter().sum();
     if total.is_nan() || total <= 0.0 {
-        return (Cell::Noisy, 0.0);
+        return Cell::Noisy;
     }
     // The share of the fluctuation's power on the harmonics (±1 % each) of `f`.
     let share = |f: f64| -> f64 {
@@ -147,8 +164,8 @@ pub fn classify(p: &Params, pressure_n: f64, speed_m_s: f64, modes: &[f64]) -> (
         .filter(|(_, (_, &s))| s >= 0.95 * best)
         .max_by(|a, b| a.1 .0.total_cmp(b.1 .0));
     match locked {
-        Some((k, (&f, &s))) if s > 0.5 => (Cell::Mode(k), f),
-        _ => (Cell::Noisy, 0.0),
+        Some((k, (_, &s))) if s > 0.5 => Cell::Mode(k),
+        _ => Cell::Noisy,
     }
 }
 
@@ -178,26 +195,11 @@ pub fn run(args: &FrictionMapArgs) -> Result<String, CliError> {
         p.set_text(k.trim(), v.trim())
             .map_err(|e| input(format!("--set {}: {e}", quote(kv))))?;
     }
-    let mut o = Object::new(FS, object_controls(&p));
-    o.set_ball((p.get(ParamId::PositionX), p.get(ParamId::PositionY)));
-    let mut probe = Friction::new(FS);
-    probe.set_object_modes(o.modes());
-    let modes: Vec<f64> = o
-        .modes()
-        .iter()
-        .filter(|m| m.gain != 0.0 && m.freq_hz < 0.49 * FS)
-        .take(probe.mode_count())
-        .map(|m| m.freq_hz)
-        .collect();
+    let modes = contact_modes(&p);
     let (pressures, speeds) = axes(args.cells);
     let grid: Vec<Vec<Cell>> = pressures
         .iter()
-        .map(|&n| {
-            speeds
-                .iter()
-                .map(|&v| classify(&p, n, v, &modes).0)
-                .collect()
-        })
+        .map(|&n| speeds.iter().map(|&v| classify(&p, n, v, &modes)).collect())
         .collect();
     let mut text = format!(
         "friction map of {} (rub_body {}): rows pressure 0.05…20 N (log), columns speed 0.01…1 m/s (log)\n\
@@ -341,20 +343,6 @@ fn draw(
 mod tests {
     use super::*;
 
-    /// The contact's mode frequencies for `p`, as `run` lists them.
-    fn modes_of(p: &Params) -> Vec<f64> {
-        let mut o = Object::new(FS, object_controls(p));
-        o.set_ball((p.get(ParamId::PositionX), p.get(ParamId::PositionY)));
-        let mut probe = Friction::new(FS);
-        probe.set_object_modes(o.modes());
-        o.modes()
-            .iter()
-            .filter(|m| m.gain != 0.0 && m.freq_hz < 0.49 * FS)
-            .take(probe.mode_count())
-            .map(|m| m.freq_hz)
-            .collect()
-    }
-
     /// The bowed string at its preset's pressure and speed moves in Helmholtz motion: on its
     /// first mode's period (its force's 3rd partial is the strongest, so the old reading from
     /// the lowest strong peak called it noisy); the glass under a light finger locks its
@@ -362,16 +350,15 @@ mod tests {
     #[test]
     fn cells_read_the_period_the_contact_moves_on() {
         let string = Preset::builtin("bowed-string").unwrap().params;
-        let m = modes_of(&string);
-        let (cell, f) = classify(&string, 0.3, 0.1, &m);
-        assert_eq!(cell, Cell::Mode(0), "{f:.1} Hz");
+        let m = contact_modes(&string);
+        assert_eq!(classify(&string, 0.3, 0.1, &m), Cell::Mode(0), "{m:.1?}");
         let glass = Preset::builtin("finger-on-wine-glass").unwrap().params;
-        let m = modes_of(&glass);
-        let (cell, f) = classify(&glass, 0.1, 0.1, &m);
+        let m = contact_modes(&glass);
+        let cell = classify(&glass, 0.1, 0.1, &m);
         assert!(
             matches!(cell, Cell::Mode(0) | Cell::Mode(1)),
-            "{cell:?} {f:.1} Hz"
+            "{cell:?} of {m:.1?}"
         );
-        assert_eq!(classify(&glass, 0.2, 1.0, &m).0, Cell::Still);
+        assert_eq!(classify(&glass, 0.2, 1.0, &m), Cell::Still);
     }
 }
