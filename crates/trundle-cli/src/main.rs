@@ -17,7 +17,7 @@
 //! trundle bench [--json] [--quick]    what the engine costs on this machine
 //! trundle fit-object KNOCK.wav -o wood.object.json [--json] [--plot F.png]   an object from a recorded strike
 //! trundle fit-roll ROLL.wav [--object F | --is-force] -o roll.json [--json]   a preset from a roll
-//! trundle match REC.wav -o preset.json [--seconds S] [--seeds K] [--budget N] [--jobs J]   a preset matched to a recording
+//! trundle match REC.wav -o preset.json [--seconds S] [--seeds K] [--budget N] [--tries T] [--jobs J]   a preset matched to a recording
 //! trundle spectrum A.wav [B.wav…] [--labels a,b] [--plot out.png] [--json]   third-octave spectra
 //! ```
 //!

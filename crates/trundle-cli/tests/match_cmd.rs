@@ -187,6 +187,43 @@ fn an_inharmonic_chord_is_reported_as_outside_naming_the_measure() {
 }
 
 #[test]
+fn tries_keep_the_search_with_the_lowest_loss_and_it_is_the_same_search_alone() {
+    let s = scratch("match-tries");
+    let dir = s.path();
+    render(
+        dir,
+        &["action_x=-0.5", "action_y=0.866"],
+        "3",
+        "77",
+        "target.wav",
+    );
+    let (r, code) = matched(dir, &["--budget", "24", "--tries", "3"]);
+    assert!(code == 0 || code == 3, "{r:#}");
+    let tries: Vec<f64> = r["tries"]
+        .as_array()
+        .expect("the tries' losses")
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    assert_eq!(tries.len(), 3, "{r:#}");
+    let (k, lowest) =
+        tries.iter().enumerate().fold(
+            (0, f64::INFINITY),
+            |a, (k, &l)| if l < a.1 { (k, l) } else { a },
+        );
+    assert_eq!(r["search_loss"].as_f64(), Some(lowest), "{r:#}");
+    assert_eq!(r["search_seed"].as_u64(), Some(1 + k as u64), "{r:#}");
+    // The kept try, run alone at its search seed, is the same search: the same preset.
+    let kept = std::fs::read_to_string(dir.join("m.json")).unwrap();
+    let seed = (1 + k).to_string();
+    let (alone, _) = matched(dir, &["--budget", "24", "--search-seed", &seed, "--force"]);
+    assert_eq!(alone["search_loss"].as_f64(), Some(lowest), "{alone:#}");
+    let again = std::fs::read_to_string(dir.join("m.json")).unwrap();
+    let params = |t: &str| serde_json::from_str::<serde_json::Value>(t).unwrap()["params"].clone();
+    assert_eq!(params(&kept), params(&again));
+}
+
+#[test]
 fn bad_input_is_refused_with_exit_code_2() {
     let s = scratch("match-bad");
     let dir = s.path();
@@ -196,6 +233,8 @@ fn bad_input_is_refused_with_exit_code_2() {
         vec!["match", "target.wav", "-o", "a.json", "--seconds", "0.2"],
         vec!["match", "target.wav", "-o", "a.json", "--seeds", "0"],
         vec!["match", "target.wav", "-o", "a.json", "--budget", "2"],
+        vec!["match", "target.wav", "-o", "a.json", "--tries", "0"],
+        vec!["match", "target.wav", "-o", "a.json", "--tries", "17"],
     ] {
         let o = run(dir, &args);
         assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
