@@ -444,7 +444,8 @@ pub const SIGMA0: f64 = 0.1;
 /// floor where it was and took the validation loss down on 7 clips (the cart 1.40 → 1.22,
 /// the cello 2.94 → 2.76, the steady sawmill 2.70 → 2.58) and up on 4 (the high cello
 /// 1.84 → 2.03, the glass 2.70 → 2.77), a mean of −0.02; the high cello's match then took
-/// 20 CPU s against the 19.2 its 1.6 s allow (a friction start's sweep). Not kept.
+/// 20 CPU s against the 19.2 its 1.6 s allow (238 candidates as before, costlier ones).
+/// Not kept.
 pub const SWEEP_STEPS: [f64; 2] = [0.3, 0.12];
 
 /// One coordinate sweep from `best`: each control moved by ±`step` alone (in parallel),
