@@ -1,6 +1,6 @@
 //! `trundle match RECORDING -o preset.json [--seconds S] [--seeds K] [--budget N] [--tries T]
-//! [--jobs J] [--strike STRIKE.wav] [--json]`: a preset that sounds like a recording, found by analysis
-//! by synthesis (issue #25 item 2; docs/guide/match.md).
+//! [--jobs J] [--strike STRIKE.wav] [--json]`: a preset that sounds like a recording, found
+//! by analysis by synthesis (issue #25 item 2; docs/guide/match.md).
 //!
 //! ```text
 //! RECORDING ─► excerpt (the middle S s) ─► profile (compare's four measures, once)
