@@ -82,12 +82,7 @@ pub fn contact_modes(p: &Params) -> Vec<f64> {
     o.set_ball((p.get(ParamId::PositionX), p.get(ParamId::PositionY)));
     let mut probe = Friction::new(FS);
     probe.set_object_modes(o.modes());
-    o.modes()
-        .iter()
-        .filter(|m| m.gain != 0.0 && m.freq_hz < 0.49 * FS)
-        .take(probe.mode_count())
-        .map(|m| m.freq_hz)
-        .collect()
+    probe.mode_freqs_hz().collect()
 }
 
 /// Classify one cell (module docs); `modes` are the contact's mode frequencies

@@ -12,7 +12,8 @@
 //!   [--strike ─► fit-object ─► the candidates play the fitted object]
 //!   ─► CMA-ES over match_space::SPACE, restarts over (ball material, shape);
 //!      each candidate rendered at K seeds, heard through its body EQ, judged (match_search)
-//!   [--tries T ─► T such searches at search seeds S … S+T−1, the lowest search loss kept]
+//!   [--tries T ─► T such searches at search seeds S … S+T−1 from one shared opening
+//!    (screening and sweeps: match_opening::open), the lowest search loss kept]
 //!   ─► the best, through its curve, at 3 OTHER seeds: each measure's value and verdict,
 //!      closer than the noise or not
 //!   ─► preset (params, seed, body EQ curve, "match" record) ─► exit 0 (a match) or 3
@@ -25,9 +26,10 @@
 use crate::compare_cmd::{self, load_mono};
 use crate::error::{failure, input, quote, CliError};
 use crate::fit_cmd::{fit_file, write_text};
+use crate::match_opening::open;
 use crate::match_pitch::{friction_starts, harmonic_presearch, tone, tune_size, with_turning};
 use crate::match_search::{
-    judge, noise_bar, own_spectrum_goal, refine_winner, search, Judged, Plan, Target,
+    judge, noise_bar, own_spectrum_goal, refine_winner, search_from, Judged, Plan, Target,
     BRIGHTNESS_GOAL, BRIGHTNESS_WEIGHT, MIN_BRIGHTNESS,
 };
 use crate::match_space::{action_cue, action_name, dims, restarts_for, with_restart, RESTARTS};
@@ -96,7 +98,8 @@ pub struct MatchArgs {
     #[arg(long, default_value_t = 1)]
     pub search_seed: u64,
     /// Independent searches (search seeds S, S + 1, …, each with the whole budget), the one
-    /// with the lowest loss at the search seeds kept: TRIES times the time. A search's
+    /// with the lowest loss at the search seeds kept. Their opening (screening and sweeps,
+    /// no search seed heard) runs once: 3 tries cost about 2–2.3× one. A search's
     /// winner depends on its path as much as on the recording (docs/guide/match.md, "A
     /// match is a draw"); more tries take the best of more draws.
     #[arg(long, default_value_t = 1)]
@@ -314,13 +317,19 @@ pub fn run(args: &MatchArgs) -> Result<(String, u8), CliError> {
     // judged again for its curve, then its body EQ refined on what the one-pass curve
     // leaves (`refine_winner`). The lowest loss at the search seeds is kept (the first on a
     // tie); the validation seeds are never heard before the winner is chosen.
-    let mut evaluations = 0;
+    // The opening (screening, sweeps, the textures' retry) hears no search seed: it runs
+    // once, and every try's CMA-ES starts from a copy of it.
+    let opening = open(&target, &plan, &pool, &bar);
+    let opened = opening.evaluations();
+    // The bar's length once the opening's cost is known: each try judges up to the rest.
+    bar.set_length((opened + args.tries as usize * args.budget.saturating_sub(opened)) as u64);
+    let mut evaluations = opened;
     let mut try_losses = Vec::with_capacity(args.tries as usize);
     let mut chosen: Option<(Judged, u64)> = None;
     for k in 0..u64::from(args.tries) {
         plan.seed = args.search_seed.wrapping_add(k);
-        let found = search(&target, &plan, &pool, &bar);
-        evaluations += found.evaluations;
+        let found = search_from(&target, &plan, &opening, &pool, &bar);
+        evaluations += found.evaluations - opened;
         let mut best = found.best;
         if let Some(t) = tonal.filter(|_| best.params.get(ParamId::Friction) > 0.0) {
             if let Some(p) = tune_size(&best.params, t.pitch_hz, fs) {
@@ -400,6 +409,7 @@ pub fn run(args: &MatchArgs) -> Result<(String, u8), CliError> {
             "closer": beats_noise,
         })),
         "candidates": evaluations,
+        "opening_candidates": opened,
         "elapsed_s": seconds,
         "body_eq": { "bands_hz": best.curve.bands_hz, "gain_db": best.curve.gain_db },
     });
@@ -448,7 +458,7 @@ pub fn run(args: &MatchArgs) -> Result<(String, u8), CliError> {
     if args.tries > 1 {
         let losses: Vec<String> = try_losses.iter().map(|l| format!("{l:.2}")).collect();
         s += &format!(
-            "tries: {} searches, losses at the search seeds {}; search seed {chosen_seed} kept\n",
+            "tries: {} searches from one opening of {opened} candidates, losses at the search seeds {}; search seed {chosen_seed} kept\n",
             args.tries,
             losses.join(", ")
         );

@@ -213,14 +213,29 @@ fn tries_keep_the_search_with_the_lowest_loss_and_it_is_the_same_search_alone() 
         );
     assert_eq!(r["search_loss"].as_f64(), Some(lowest), "{r:#}");
     assert_eq!(r["search_seed"].as_u64(), Some(1 + k as u64), "{r:#}");
-    // The kept try, run alone at its search seed, is the same search: the same preset.
+    // Every try, run alone at its search seed, is the same search: the same loss, and for
+    // the kept one the same preset.
     let kept = std::fs::read_to_string(dir.join("m.json")).unwrap();
-    let seed = (1 + k).to_string();
-    let (alone, _) = matched(dir, &["--budget", "24", "--search-seed", &seed, "--force"]);
-    assert_eq!(alone["search_loss"].as_f64(), Some(lowest), "{alone:#}");
-    let again = std::fs::read_to_string(dir.join("m.json")).unwrap();
     let params = |t: &str| serde_json::from_str::<serde_json::Value>(t).unwrap()["params"].clone();
-    assert_eq!(params(&kept), params(&again));
+    let count = |v: &serde_json::Value, k: &str| v[k].as_u64().expect(k);
+    let opening = count(&r, "opening_candidates");
+    assert!(opening > 0, "{r:#}");
+    let mut after_opening = 0;
+    for (i, &loss) in tries.iter().enumerate() {
+        let seed = (1 + i).to_string();
+        let (alone, _) = matched(dir, &["--budget", "24", "--search-seed", &seed, "--force"]);
+        assert_eq!(alone["search_loss"].as_f64(), Some(loss), "{alone:#}");
+        if i == k {
+            let again = std::fs::read_to_string(dir.join("m.json")).unwrap();
+            assert_eq!(params(&kept), params(&again));
+        }
+        // The opening (screening and sweeps, no search seed heard) is the same for every
+        // try, and the tries ran it once: their candidates are one opening and each try's
+        // own.
+        assert_eq!(count(&alone, "opening_candidates"), opening, "{alone:#}");
+        after_opening += count(&alone, "candidates") - opening;
+    }
+    assert_eq!(count(&r, "candidates"), opening + after_opening, "{r:#}");
 }
 
 #[test]

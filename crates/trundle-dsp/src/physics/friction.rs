@@ -343,6 +343,12 @@ impl Friction {
         self.n
     }
 
+    /// The frequencies (Hz) of the modes taking part in the contact, in their order (the
+    /// filter of [`Friction::set_object_modes`] applied).
+    pub fn mode_freqs_hz(&self) -> impl Iterator<Item = f64> + '_ {
+        self.modes[..self.n].iter().map(|m| m.freq_hz)
+    }
+
     /// Samples since reset whose Newton solve stopped at [`NEWTON_ITERATIONS`] unconverged.
     pub fn unconverged(&self) -> u64 {
         self.unconverged
