@@ -320,7 +320,7 @@ pub fn run(args: &MatchArgs) -> Result<(String, u8), CliError> {
     // The opening (screening, sweeps, the textures' retry) hears no search seed: it runs
     // once, and every try's CMA-ES starts from a copy of it.
     let opening = open(&target, &plan, &pool, &bar);
-    let opened = opening.evaluations();
+    let opened = opening.evaluations;
     // The bar's length once the opening's cost is known: each try judges up to the rest.
     bar.set_length((opened + args.tries as usize * args.budget.saturating_sub(opened)) as u64);
     let mut evaluations = opened;

@@ -137,8 +137,7 @@ pub(crate) fn retry_textures(
 /// The opening of a search, the part its random draws never touch: every start judged
 /// (screening), the best swept ([`SWEEP_STEPS`]) with the estimate's textures tried on it.
 /// It depends on the recording, the starts and the render seeds only, so `--tries` runs it
-/// once and every try's CMA-ES from a copy ([`search_from`]).
-#[derive(Clone)]
+/// once and every try's CMA-ES from a copy ([`crate::match_search::search_from`]).
 pub struct Opening {
     /// The starts, judged and sorted by loss, the first replaced by its sweeps' best.
     pub(crate) screened: Vec<Judged>,
@@ -148,13 +147,6 @@ pub struct Opening {
     pub(crate) evaluations: usize,
     /// The [`FINALISTS`] best candidates so far.
     pub(crate) finalists: Vec<Judged>,
-}
-
-impl Opening {
-    /// Candidates the opening judged.
-    pub fn evaluations(&self) -> usize {
-        self.evaluations
-    }
 }
 
 /// Every candidate of `ps` judged at the plan's seeds on `pool`, ticking `bar`, the best

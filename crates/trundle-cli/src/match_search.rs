@@ -399,7 +399,7 @@ fn judge_renders(
 /// How a search runs.
 pub struct Plan<'a> {
     /// The signal model's controls searched (a friction start searches
-    /// [`friction_dims`] instead).
+    /// [`crate::match_pitch::friction_dims`] instead).
     pub dims: &'a [Dim],
     /// The starting parameters (the cue's action set on the defaults).
     pub start: Params,
@@ -436,10 +436,10 @@ pub const SIGMA0: f64 = 0.1;
 
 /// The search after its `opening` ([`crate::match_opening::open`]; from a copy of it, so
 /// several tries share one), on `pool`, ticking `bar` per candidate: CMA-ES at the plan's
-/// search seed from the best start with what is left of the budget, and from the next best start if it stops
-/// early; the textures' last try on the winner; the [`FINALISTS`] best judged again at
-/// more seeds ([`recheck`]) and the steadiest wins. [`Found::evaluations`] counts the
-/// opening's candidates too.
+/// search seed from the best start with what is left of the budget, and from the next best
+/// start if it stops early; the textures' last try on the winner; the [`FINALISTS`] best
+/// judged again at more seeds ([`recheck`]) and the steadiest wins.
+/// [`Found::evaluations`] counts the opening's candidates too.
 pub fn search_from(
     target: &Target,
     plan: &Plan,

@@ -217,7 +217,7 @@ fn tries_keep_the_search_with_the_lowest_loss_and_it_is_the_same_search_alone() 
     // the kept one the same preset.
     let kept = std::fs::read_to_string(dir.join("m.json")).unwrap();
     let params = |t: &str| serde_json::from_str::<serde_json::Value>(t).unwrap()["params"].clone();
-    let count = |v: &serde_json::Value, k: &str| v[k].as_u64().expect(k);
+    let count = |v: &serde_json::Value, key: &str| v[key].as_u64().expect(key);
     let opening = count(&r, "opening_candidates");
     assert!(opening > 0, "{r:#}");
     let mut after_opening = 0;
