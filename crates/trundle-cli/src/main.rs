@@ -40,6 +40,7 @@ mod friction_map;
 mod level;
 mod list;
 mod match_cmd;
+mod match_edges;
 mod match_opening;
 mod match_pitch;
 mod match_recheck;

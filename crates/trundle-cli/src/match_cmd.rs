@@ -26,6 +26,7 @@
 use crate::compare_cmd::{self, load_mono};
 use crate::error::{failure, input, quote, CliError};
 use crate::fit_cmd::{fit_file, write_text};
+use crate::match_edges::read_fades;
 use crate::match_opening::open;
 use crate::match_pitch::{friction_starts, harmonic_presearch, tone, tune_size, with_turning};
 use crate::match_search::{
@@ -241,6 +242,7 @@ pub fn run(args: &MatchArgs) -> Result<(String, u8), CliError> {
         sample_rate_hz: fs,
         samples: excerpt.len(),
         object: object.as_ref().map(|o| o.1.clone()),
+        fades: read_fades(&excerpt, fs),
     };
     // The start: the defaults (the limiter on, as a render plays it), the velocity inside
     // the searched range; every restart's start (each action corner, other balls and
@@ -393,6 +395,7 @@ pub fn run(args: &MatchArgs) -> Result<(String, u8), CliError> {
         "validation": per_seed,
         "action": action,
         "start_estimate": estimate.describe(),
+        "fades": target.fades.map(|t| json!({"fade_in_s": t.fade_in_s, "fade_out_s": t.fade_out_s})),
         "tone": tone.map(|t| json!({
             "pitch_hz": t.pitch_hz,
             "harmonic_share": t.harmonic_share,
@@ -434,6 +437,7 @@ pub fn run(args: &MatchArgs) -> Result<(String, u8), CliError> {
         balls: Vec::new(),
         object: object.map(|o| o.0),
         body_eq: best.curve.body_eq(),
+        fades: target.fades,
         matched: Some(record.clone()),
     };
     write_text(&args.output, &(preset.to_json() + "\n"), args.force)?;
@@ -455,6 +459,12 @@ pub fn run(args: &MatchArgs) -> Result<(String, u8), CliError> {
         target.reference.kurtosis
     );
     s += &format!("start: {}\n", estimate.describe());
+    if let Some(t) = &target.fades {
+        s += &format!(
+            "edges: the recording fades in over {:.2} s and out over {:.2} s; every candidate and the preset's renders play them\n",
+            t.fade_in_s, t.fade_out_s
+        );
+    }
     if args.tries > 1 {
         let losses: Vec<String> = try_losses.iter().map(|l| format!("{l:.2}")).collect();
         s += &format!(

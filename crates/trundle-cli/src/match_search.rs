@@ -26,6 +26,7 @@ use trundle_dsp::analysis::compare::spectrum::{
 use trundle_dsp::analysis::compare::{compare_profiles, profile, Comparison, Profile};
 use trundle_dsp::fit::cmaes::{CmaEs, Settings};
 use trundle_dsp::object::fitted::LoadedObject;
+use trundle_dsp::scene::fades::Fades;
 use trundle_dsp::{ParamId, Params, Voice};
 
 /// What every candidate is judged against.
@@ -42,6 +43,9 @@ pub struct Target {
     /// spectrum is weighed by [`TONAL_OWN_SPECTRUM_WEIGHT`] beyond
     /// [`TONAL_OWN_SPECTRUM_TARGET_DB`] instead of the noisy recording's terms.
     pub tonal: bool,
+    /// The recording's fades, which every candidate is rendered with
+    /// ([`crate::match_edges::read_fades`]).
+    pub fades: Option<Fades>,
 }
 
 /// What spectrum-shaped noise scores against the recording: the baseline a match must beat
@@ -211,7 +215,7 @@ pub fn friction_lead_s(seed: u32) -> f64 {
 }
 
 /// Render `params` at `seed`, mono, `target.samples` long (a friction candidate after
-/// [`friction_lead_s`] of lead-in).
+/// [`friction_lead_s`] of lead-in), with the recording's fades when it has them.
 pub fn render(target: &Target, params: &Params, seed: u32) -> Vec<f64> {
     let mut p = *params;
     p.set_clamped(ParamId::Seed, f64::from(seed));
@@ -228,6 +232,10 @@ pub fn render(target: &Target, params: &Params, seed: u32) -> Vec<f64> {
     let mut out = vec![0f32; lead + target.samples];
     for b in out.chunks_mut(4096) {
         v.process(b);
+    }
+    if let Some(fades) = &target.fades {
+        let n = target.samples as u64;
+        fades.apply(&mut out[lead..], 1, 0, n, target.sample_rate_hz);
     }
     out[lead..].iter().map(|&s| f64::from(s)).collect()
 }

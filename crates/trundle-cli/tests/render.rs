@@ -280,3 +280,59 @@ fn force_flag_overwrites_and_its_absence_protects() {
         .starts_with("time_s,"));
     assert_eq!(entries(&d), vec!["hits.csv", "out.wav"]);
 }
+
+/// A preset's fades (what `trundle match` writes for a recording that fades in or out) are
+/// played over the render's first and last seconds and nowhere else; `--no-fades` leaves
+/// them out; a malformed `fades` is refused with its field named.
+#[test]
+fn a_presets_fades_shape_the_edges_only() {
+    let d = scratch("fades");
+    fs::write(
+        d.join("faded.json"),
+        r#"{"trundle_preset": 1, "name": "faded", "fades": {"fade_in_s": 0.2, "fade_out_s": 0.1}}"#,
+    )
+    .unwrap();
+    let r = |name: &str, extra: &[&str]| {
+        let args = [
+            &["render", "--preset", "faded.json", "--seconds", "1"][..],
+            &["--sample-rate", "48000", "--no-normalize", "-o", name],
+            extra,
+        ]
+        .concat();
+        ok(&d, &args);
+        read_wav(&d.join(name)).1
+    };
+    let faded = r("faded.wav", &[]);
+    let plain = r("plain.wav", &["--no-fades"]);
+    let frames = faded.len() / 2;
+    assert_eq!(frames, 48_000);
+    // Between the fades: the very samples.
+    assert_eq!(faded[2 * 9_600..2 * 43_200], plain[2 * 9_600..2 * 43_200]);
+    // Everywhere: the plain render times a linear fade-in over 0.2 s and fade-out over the
+    // last 0.1 s (each frame's gain at its middle), to the 16-bit step (both files are
+    // rounded to it: 1.5 steps).
+    let step = 1.0 / 32_768.0;
+    let mut faded_energy = 0.0;
+    for i in 0..frames {
+        let t = (i as f64 + 0.5) / 48_000.0;
+        let gain = (t / 0.2).min(1.0) * ((1.0 - t) / 0.1).min(1.0);
+        for c in 0..2 {
+            let (a, b) = (faded[2 * i + c], plain[2 * i + c]);
+            assert!(
+                (a - gain * b).abs() <= 1.5 * step,
+                "frame {i}: {a} vs {gain} × {b}"
+            );
+            faded_energy += (b - a).abs();
+        }
+    }
+    // And the fades did something (the roll sounds at the edges).
+    assert!(faded_energy > 100.0 * step, "{faded_energy}");
+    fs::write(
+        d.join("bad.json"),
+        r#"{"trundle_preset": 1, "name": "bad", "fades": {"fade_in_s": -2}}"#,
+    )
+    .unwrap();
+    let o = run(&d, &["render", "--preset", "bad.json", "-o", "bad.wav"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("fades: fade_in_s"), "{}", stderr(&o));
+}

@@ -160,6 +160,7 @@ impl PresetStore {
             balls: Vec::new(),
             object,
             body_eq,
+            fades: None,
             matched: None,
         };
         fs::create_dir_all(&self.dir)

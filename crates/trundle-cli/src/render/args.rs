@@ -122,6 +122,11 @@ pub struct RenderArgs {
     #[arg(long, conflicts_with_all = ["force_only", "impacts"])]
     pub impulse: bool,
 
+    /// Leave out the preset's fades (`"fades"`, which `trundle match` writes when its
+    /// recording fades in or out): the render starts and ends at full level.
+    #[arg(long)]
+    pub no_fades: bool,
+
     /// Keep the engine's calibrated level. With the scene's `limiter` on (the default) the
     /// look-ahead safety limiter (ceiling -1 dBFS, stereo-linked, latency compensated) keeps
     /// peaks down; with `--set limiter=off` a soft never-clip guard bends only what exceeds

@@ -99,8 +99,9 @@ pub(super) struct Impacts {
 /// ball notes applied by the core's event loop ([`trundle_dsp::scene::events`]): in stereo
 /// ([`process_stereo_with_events`]) when `plan.channels` is 2, else the mono mix
 /// ([`process_with_events`]). Drain impacts after each block; count and zero non-finite
-/// samples (the voice flushes them itself: this only guards the file); hand each block to
-/// `sink` as `(left, Some(right))` or `(mono, None)`.
+/// samples (the voice flushes them itself: this only guards the file); play the preset's
+/// fades over the `frames` rendered; hand each block to `sink` as `(left, Some(right))` or
+/// `(mono, None)`.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn render_pass(
     voice: &mut Voice,
@@ -137,6 +138,13 @@ pub(super) fn render_pass(
             if !x.is_finite() {
                 *nonfinite += 1;
                 *x = 0.0;
+            }
+        }
+        if let Some(f) = &plan.fades {
+            let fs = f64::from(plan.sample_rate);
+            f.apply(l, 1, done, frames, fs);
+            if let Some(r) = r.as_deref_mut() {
+                f.apply(r, 1, done, frames, fs);
             }
         }
         let count = &mut impacts.count;

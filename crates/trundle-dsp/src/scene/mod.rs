@@ -18,6 +18,7 @@
 //! | [`limiter`] | the look-ahead, stereo-linked safety limiter |
 //! | [`events`] | notes and automation split the block where they fall |
 //! | [`impulse`] | the object struck once (an offline render) |
+//! | [`fades`] | a finite take's fade-in and fade-out (an offline render) |
 //! | `preset` (feature `presets`) | preset files |
 
 pub mod balls;
@@ -26,6 +27,7 @@ pub mod bumps;
 pub mod crowd;
 pub mod engine_mix;
 pub mod events;
+pub mod fades;
 pub mod floor;
 pub mod gesture;
 pub mod hand;

@@ -37,6 +37,10 @@
 //!   `{"bands_hz": [...], "gain_db": [...]}`, gains (±40 dB) at increasing centres,
 //!   interpolated onto the third-octave bands; the `body_eq` control sets how much plays.
 //!   Absent = no curve (the model's own spectrum). `trundle match` writes it.
+//! * `fades` (optional) gives an offline render a finite take's edges ([`crate::scene::fades`]):
+//!   `{"fade_in_s": 0.4, "fade_out_s": 0.3}`, linear fades of 0–60 s at the render's start
+//!   and end. `trundle match` writes it when its recording fades in or out; the plugin,
+//!   which plays on without an end, ignores it.
 //! * `match` (optional) is what `trundle match` recorded: the recording, the distance at the
 //!   seeds it was validated at, each measure's value and verdict (docs/guide/match.md). Kept as
 //!   written; it does not change the sound.
@@ -46,6 +50,7 @@
 use crate::object::fitted::{self, LoadedObject, ObjectFile};
 use crate::params::{spec_by_key, ParamError, ParamId, ParamKind, ParamSpec, Params, PARAMS};
 use crate::scene::body_eq::{self, BodyEqCurve};
+use crate::scene::fades::Fades;
 use core::fmt;
 use serde_json::{Map, Value};
 use std::sync::Arc;
@@ -82,6 +87,8 @@ pub struct Preset {
     pub object: Option<ObjectFile>,
     /// The body EQ curve (`None`: no curve, the model's own spectrum).
     pub body_eq: Option<Arc<BodyEqCurve>>,
+    /// The fades of a finite take an offline render plays (`None`: none; [`Fades`]).
+    pub fades: Option<Fades>,
     /// What `trundle match` recorded of how close the preset came to its recording (the
     /// `"match"` object, kept as written; `None`: not a match).
     pub matched: Option<Value>,
@@ -157,6 +164,8 @@ pub enum PresetError {
     Object(String),
     /// A malformed body EQ curve.
     BodyEq(String),
+    /// Malformed fades.
+    Fades(String),
 }
 
 impl fmt::Display for PresetError {
@@ -173,6 +182,7 @@ impl fmt::Display for PresetError {
             PresetError::Balls(e) => write!(f, "balls: {e}"),
             PresetError::Object(e) => write!(f, "object: {e}"),
             PresetError::BodyEq(e) => write!(f, "body_eq: {e}"),
+            PresetError::Fades(e) => write!(f, "fades: {e}"),
             PresetError::UnknownBuiltin(n) => {
                 write!(f, "no built-in preset '{n}' (available: ")?;
                 for (i, (stem, _)) in BUILTIN_PRESETS.iter().enumerate() {
@@ -214,6 +224,7 @@ impl Preset {
                     | "balls"
                     | "object"
                     | "body_eq"
+                    | "fades"
                     | "match"
             ) {
                 return Err(PresetError::Syntax(format!("unknown field '{key}'")));
@@ -273,6 +284,10 @@ impl Preset {
                 body_eq::json::from_json(v).map_err(PresetError::BodyEq)?,
             )),
         };
+        let fades = match obj.get("fades") {
+            None => None,
+            Some(v) => Some(parse_fades(v)?),
+        };
         let matched = match obj.get("match") {
             None => None,
             Some(v) if v.is_object() => Some(v.clone()),
@@ -290,6 +305,7 @@ impl Preset {
             balls,
             object,
             body_eq,
+            fades,
             matched,
         })
     }
@@ -410,6 +426,12 @@ impl Preset {
         if let Some(c) = &self.body_eq {
             top.insert("body_eq".into(), body_eq::json::to_json(c));
         }
+        if let Some(t) = &self.fades {
+            let mut m = Map::new();
+            m.insert("fade_in_s".into(), Value::from(t.fade_in_s));
+            m.insert("fade_out_s".into(), Value::from(t.fade_out_s));
+            top.insert("fades".into(), Value::Object(m));
+        }
         if let Some(m) = &self.matched {
             top.insert("match".into(), m.clone());
         }
@@ -502,6 +524,25 @@ fn parse_automation(v: &Value) -> Result<Vec<Lane>, PresetError> {
     Ok(lanes)
 }
 
+/// Fades: `{"fade_in_s": s, "fade_out_s": s}`, each optional (0), nothing else.
+fn parse_fades(v: &Value) -> Result<Fades, PresetError> {
+    let obj = v
+        .as_object()
+        .ok_or_else(|| PresetError::Fades("must be an object".into()))?;
+    let mut fades = [0.0; 2];
+    for (key, value) in obj {
+        let slot = match key.as_str() {
+            "fade_in_s" => &mut fades[0],
+            "fade_out_s" => &mut fades[1],
+            _ => return Err(PresetError::Fades(format!("unknown field '{key}'"))),
+        };
+        *slot = value
+            .as_f64()
+            .ok_or_else(|| PresetError::Fades(format!("{key} must be a number")))?;
+    }
+    Fades::new(fades[0], fades[1]).map_err(|e| PresetError::Fades(e.to_string()))
+}
+
 fn parse_balls(v: &Value) -> Result<Vec<BallNote>, PresetError> {
     let bad = PresetError::Balls;
     let arr = v
@@ -559,126 +600,4 @@ pub fn parameter_count() -> usize {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::params::ParamId;
-
-    #[test]
-    fn every_builtin_preset_loads_and_round_trips() {
-        assert!(!BUILTIN_PRESETS.is_empty());
-        assert!(BUILTIN_PRESETS.iter().any(|(s, _)| *s == DEFAULT_PRESET));
-        for (stem, _) in BUILTIN_PRESETS {
-            let p = Preset::builtin(stem).unwrap_or_else(|e| panic!("{stem}: {e}"));
-            assert!(!p.name.is_empty() && !p.description.is_empty(), "{stem}");
-            let again = Preset::from_json(&p.to_json()).unwrap();
-            assert_eq!(again, p, "{stem}");
-        }
-    }
-
-    #[test]
-    fn bad_files_give_clear_errors() {
-        let e = |t: &str| Preset::from_json(t).unwrap_err().to_string();
-        assert!(e("").contains("not a valid preset"));
-        assert!(e("[1,2]").contains("not an object"));
-        assert!(e(r#"{"trundle_preset": 99, "name": "x"}"#).contains("newer"));
-        assert!(e(r#"{"trundle_preset": 1}"#).contains("'name'"));
-        assert!(
-            e(r#"{"trundle_preset": 1, "name": "x", "params": {"bogus": 1}}"#)
-                .contains("unknown parameter 'bogus'")
-        );
-        assert!(
-            e(r#"{"trundle_preset": 1, "name": "x", "params": {"size": 7}}"#)
-                .contains("out of range")
-        );
-        assert!(
-            e(r#"{"trundle_preset": 1, "name": "x", "params": {"shape": "cube"}}"#)
-                .contains("no variant 'cube'")
-        );
-        assert!(
-            e(r#"{"trundle_preset": 1, "name": "x", "params": {"size": "big"}}"#).contains("size")
-        );
-        assert!(e(r#"{"trundle_preset": 1, "name": "x", "extra": 1}"#).contains("unknown field"));
-        let p =
-            Preset::from_json(r#"{"trundle_preset": 1, "name": "x", "params": {"shape": "bar"}}"#)
-                .unwrap();
-        assert_eq!(p.params.get(ParamId::Shape), 1.0);
-        assert_eq!(
-            p.params.get(ParamId::Size),
-            Params::default().get(ParamId::Size)
-        );
-        let auto = |a: &str| {
-            Preset::from_json(&format!(
-                r#"{{"trundle_preset": 1, "name": "x", "automation": {a}}}"#
-            ))
-        };
-        assert!(auto("[]")
-            .unwrap_err()
-            .to_string()
-            .contains("object of lanes"));
-        assert!(auto(r#"{"size": []}"#)
-            .unwrap_err()
-            .to_string()
-            .contains("list of 1"));
-        assert!(auto(r#"{"size": [[1, 0.5], [0, 0.6]]}"#)
-            .unwrap_err()
-            .to_string()
-            .contains("backwards"));
-        assert!(auto(r#"{"size": [[0, 5]]}"#)
-            .unwrap_err()
-            .to_string()
-            .contains("out of range"));
-        assert!(auto(r#"{"seed": [[0, 5]]}"#)
-            .unwrap_err()
-            .to_string()
-            .contains("cannot be automated"));
-        assert!(auto(r#"{"size": [[-1, 0.5]]}"#).is_err());
-        assert!(auto(r#"{"size": [[0, 0.5, 1]]}"#).is_err());
-    }
-
-    #[test]
-    fn automation_interpolates_and_round_trips() {
-        let p = Preset::from_json(
-            r#"{"trundle_preset": 1, "name": "m", "params": {"size": 0.9},
-                "automation": {"size": [[1, 0.2], [3, 0.6]], "trajectory": [[0, "manual"], [2, "circle"]]}}"#,
-        )
-        .unwrap();
-        // Static load: the first keyframes.
-        assert_eq!(p.params.get(ParamId::Size), 0.2);
-        let at = |t: f64| p.params_at(t);
-        assert_eq!(at(0.0).get(ParamId::Size), 0.2);
-        assert!((at(2.0).get(ParamId::Size) - 0.4).abs() < 1e-12);
-        assert_eq!(at(9.0).get(ParamId::Size), 0.6);
-        // Enumerations step.
-        assert_eq!(at(1.9).get(ParamId::Trajectory), 0.0);
-        assert_eq!(at(2.0).get(ParamId::Trajectory), 2.0);
-        assert_eq!(Preset::from_json(&p.to_json()).unwrap(), p);
-    }
-
-    #[test]
-    fn balls_parse_validate_and_round_trip() {
-        let ok = Preset::from_json(
-            r#"{"trundle_preset": 1, "name": "b", "balls": [
-                {"note": 60, "velocity": 0.5, "start_s": 0.5, "stop_s": 2},
-                {"note": 40, "velocity": 1}]}"#,
-        )
-        .unwrap();
-        assert_eq!(ok.balls.len(), 2);
-        assert_eq!(ok.balls[1].stop_s, None);
-        assert_eq!(ok.balls[1].start_s, 0.0);
-        assert_eq!(Preset::from_json(&ok.to_json()).unwrap(), ok);
-        let e = |b: &str| {
-            Preset::from_json(&format!(
-                r#"{{"trundle_preset": 1, "name": "x", "balls": {b}}}"#
-            ))
-            .unwrap_err()
-            .to_string()
-        };
-        assert!(e("{}").contains("list"));
-        assert!(e(r#"[{"note": 200, "velocity": 0.5}]"#).contains("0–127"));
-        assert!(e(r#"[{"note": 60, "velocity": 2}]"#).contains("velocity"));
-        assert!(
-            e(r#"[{"note": 60, "velocity": 0.5, "start_s": 2, "stop_s": 1}]"#).contains("stop_s")
-        );
-        assert!(e(r#"[{"note": 60, "velocity": 0.5, "colour": 1}]"#).contains("unknown field"));
-    }
-}
+mod tests;
