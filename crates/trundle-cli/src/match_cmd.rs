@@ -202,6 +202,10 @@ pub fn run(args: &MatchArgs) -> Result<(String, u8), CliError> {
     let (x, fs) = load_mono(&args.recording)?;
     let shown = quote(&args.recording.display().to_string());
     let want = (args.seconds * fs) as usize;
+    // The recording's fades, read off the whole of it (the preset plays them); the
+    // candidates hear them only when the excerpt is the whole recording.
+    let fades = read_fades(&x, fs);
+    let whole = x.len() <= want;
     let excerpt = if x.len() > want {
         let a = (x.len() - want) / 2;
         x[a..a + want].to_vec()
@@ -242,7 +246,7 @@ pub fn run(args: &MatchArgs) -> Result<(String, u8), CliError> {
         sample_rate_hz: fs,
         samples: excerpt.len(),
         object: object.as_ref().map(|o| o.1.clone()),
-        fades: read_fades(&excerpt, fs),
+        fades: fades.filter(|_| whole),
     };
     // The start: the defaults (the limiter on, as a render plays it), the velocity inside
     // the searched range; every restart's start (each action corner, other balls and
@@ -395,7 +399,7 @@ pub fn run(args: &MatchArgs) -> Result<(String, u8), CliError> {
         "validation": per_seed,
         "action": action,
         "start_estimate": estimate.describe(),
-        "fades": target.fades.map(|t| json!({"fade_in_s": t.fade_in_s, "fade_out_s": t.fade_out_s})),
+        "fades": fades.map(|t| json!({"fade_in_s": t.fade_in_s, "fade_out_s": t.fade_out_s})),
         "tone": tone.map(|t| json!({
             "pitch_hz": t.pitch_hz,
             "harmonic_share": t.harmonic_share,
@@ -437,7 +441,7 @@ pub fn run(args: &MatchArgs) -> Result<(String, u8), CliError> {
         balls: Vec::new(),
         object: object.map(|o| o.0),
         body_eq: best.curve.body_eq(),
-        fades: target.fades,
+        fades,
         matched: Some(record.clone()),
     };
     write_text(&args.output, &(preset.to_json() + "\n"), args.force)?;
@@ -459,9 +463,14 @@ pub fn run(args: &MatchArgs) -> Result<(String, u8), CliError> {
         target.reference.kurtosis
     );
     s += &format!("start: {}\n", estimate.describe());
-    if let Some(t) = &target.fades {
+    if let Some(t) = &fades {
+        let heard = if whole {
+            "every candidate and the preset's renders play them"
+        } else {
+            "the preset's renders play them (the candidates, the recording's middle, do not)"
+        };
         s += &format!(
-            "edges: the recording fades in over {:.2} s and out over {:.2} s; every candidate and the preset's renders play them\n",
+            "edges: the recording fades in over {:.2} s and out over {:.2} s; {heard}\n",
             t.fade_in_s, t.fade_out_s
         );
     }

@@ -3,12 +3,13 @@
 //!
 //! A game's sound effect or a library's one-shot is a take, often faded in and out; the
 //! four measures judge the whole take, fades included, and Trundle's scene starts and goes on
-//! at full level. So the match reads the fades off the excerpt it matches and renders every
-//! candidate with them ([`trundle_dsp::scene::fades::Fades`]), and the preset carries them.
+//! at full level. So the match reads the fades off the recording, renders every candidate
+//! with them when the excerpt it matches is the whole recording (its middle has no edges),
+//! and the preset carries them ([`trundle_dsp::scene::fades::Fades`]).
 //!
 //! The rule, on the level of 50 ms frames (dB):
 //!
-//! * the *body* is the middle 60 % of the excerpt: its median level M and its quiet level Q
+//! * the *body* is the middle 60 % of the recording: its median level M and its quiet level Q
 //!   (the [`QUIET_PERCENTILE`]th percentile of its frames);
 //! * an edge (the first or the last [`EDGE_S`]) is a fade when its mean power lies
 //!   [`FADE_DEPTH_DB`] or more under M *and* [`QUIET_MARGIN_DB`] under Q: well outside
@@ -20,12 +21,11 @@
 //!   1.65 → 1.89;
 //! * the fade's length: a linear fade is 6 dB down half-way, so twice the time the level
 //!   (smoothed over 150 ms) takes from the edge to reach M − 6 dB, at most
-//!   [`MAX_FADE_SHARE`] of the excerpt.
+//!   [`MAX_FADE_SHARE`] of the recording and [`MAX_FADE_S`].
 //!
-//! On the texture corpus (its clips as `match` hears them): passing traffic fades in over
-//! 0.65 s and out over 0.75 s, the sawmill in over 0.85 s and out over 0.35 s, the cart on a
-//! dirt track in over 0.25 s; the other ten clips read none (five are cut from the middle of
-//! longer recordings).
+//! On the texture corpus: passing traffic fades in over 0.65 s and out over 0.75 s, the
+//! sawmill in over 0.85 s and out over 0.35 s, the cart on a dirt track in over 0.25 s; the
+//! other ten clips read none.
 
 use trundle_dsp::scene::fades::Fades;
 
@@ -42,9 +42,12 @@ pub const QUIET_MARGIN_DB: f64 = 3.0;
 const HALF_WAY_DB: f64 = 6.0;
 /// The body's quiet level: this percentile of its frames' levels.
 pub const QUIET_PERCENTILE: f64 = 5.0;
-/// The longest fade, as a share of the excerpt.
+/// The longest fade, as a share of the recording.
 pub const MAX_FADE_SHARE: f64 = 0.4;
-/// The shortest excerpt read for fades (s): a shorter one has no body to compare with.
+/// The longest fade read (s): a take's fade, not a long recording's quiet opening (a preset
+/// rendered for 5 s plays the whole of its fades).
+pub const MAX_FADE_S: f64 = 2.0;
+/// The shortest recording read for fades (s): a shorter one has no body to compare with.
 pub const MIN_SECONDS: f64 = 1.0;
 /// The level is smoothed over this many frames when timing a fade (150 ms).
 const SMOOTH_FRAMES: usize = 3;
@@ -69,7 +72,7 @@ pub fn read_fades(x: &[f64], sample_rate_hz: f64) -> Option<Fades> {
     let median = body[body.len() / 2];
     let quiet = body[((QUIET_PERCENTILE / 100.0) * (body.len() - 1) as f64).round() as usize];
     let edge = ((EDGE_S / FRAME_S).round() as usize).max(1);
-    let longest = MAX_FADE_SHARE * x.len() as f64 / sample_rate_hz;
+    let longest = (MAX_FADE_SHARE * x.len() as f64 / sample_rate_hz).min(MAX_FADE_S);
     // The fade from the start of `levels` (the frames in order from the edge inwards).
     let fade = |frames: &mut dyn Iterator<Item = f64>| -> f64 {
         let p: Vec<f64> = frames.collect();

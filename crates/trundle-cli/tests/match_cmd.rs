@@ -186,6 +186,68 @@ fn an_inharmonic_chord_is_reported_as_outside_naming_the_measure() {
     );
 }
 
+/// A recording that fades in and out (a roll rendered with fades of 0.6 s and 0.4 s) has
+/// its fades read (within 0.15 s: the rule times the level's −6 dB point in 50 ms frames
+/// smoothed over 150 ms), reported, written into the preset and played by its render; a
+/// recording without fades gets none (`a_roll_is_matched…`'s target, checked here too).
+#[test]
+fn a_recordings_fades_are_read_and_the_preset_plays_them() {
+    let s = scratch("match-fades");
+    let dir = s.path();
+    std::fs::write(
+        dir.join("faded.json"),
+        r#"{"trundle_preset": 1, "name": "faded", "fades": {"fade_in_s": 0.6, "fade_out_s": 0.4}}"#,
+    )
+    .unwrap();
+    common::render(
+        dir,
+        &["--preset", "faded.json", "--seconds", "3", "--seed", "77"],
+        &[],
+        "target.wav",
+    );
+    let (r, _) = matched(dir, &["--budget", "24"]);
+    let fade_in = r["fades"]["fade_in_s"].as_f64().expect("fades read");
+    let fade_out = r["fades"]["fade_out_s"].as_f64().unwrap();
+    assert!((fade_in - 0.6).abs() <= 0.15, "{:#}", r["fades"]);
+    assert!((fade_out - 0.4).abs() <= 0.15, "{:#}", r["fades"]);
+    let preset: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("m.json")).unwrap()).unwrap();
+    assert_eq!(preset["fades"], r["fades"]);
+    // The preset's render plays them: its first 50 ms far under its middle, and with
+    // --no-fades not.
+    let level_db = |file: &str, from: usize, to: usize| {
+        let (x, _) = trundle_test_support::wav::read_wav_mono(&dir.join(file));
+        let seg = &x[from..to];
+        10.0 * (seg.iter().map(|v| v * v).sum::<f64>() / seg.len() as f64).log10()
+    };
+    for (file, extra, quiet) in [
+        ("r.wav", &[][..], true),
+        ("n.wav", &["--no-fades"][..], false),
+    ] {
+        let mut args = vec![
+            "--preset",
+            "m.json",
+            "--seconds",
+            "3",
+            "--sample-rate",
+            "48000",
+        ];
+        args.extend_from_slice(extra);
+        common::render(dir, &args, &[], file);
+        let under = level_db(file, 48_000, 96_000) - level_db(file, 0, 2_400);
+        assert_eq!(
+            under > 15.0,
+            quiet,
+            "{file}: the first 50 ms {under:.1} dB under"
+        );
+    }
+    // Without fades, none.
+    render(dir, &[], "3", "77", "plain.wav");
+    std::fs::remove_file(dir.join("m.json")).unwrap();
+    let (r, _) = common::matched_file(dir, "plain.wav", &["--seconds", "3", "--budget", "24"]);
+    assert!(r["fades"].is_null(), "{:#}", r["fades"]);
+}
+
 #[test]
 fn tries_keep_the_search_with_the_lowest_loss_and_it_is_the_same_search_alone() {
     let s = scratch("match-tries");
