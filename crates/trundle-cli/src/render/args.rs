@@ -1,5 +1,5 @@
 //! The arguments of `trundle render` and the limits they are held to: the command's
-//! surface, read by [`super::plan`] and nothing else of the command (a leaf).
+//! surface, read by [`super::plan`](mod@super::plan) and nothing else of the command (a leaf).
 
 use crate::output::Format;
 use clap::Args;
@@ -142,8 +142,8 @@ pub struct RenderArgs {
     /// per take (repeatable), e.g. --jitter velocity=0.1 --jitter roughness=20%.
     #[arg(long, value_name = "ID=AMOUNT", requires = "variations")]
     pub jitter: Vec<String>,
-    /// With --variations: where the manifest goes (default: beside the first take,
-    /// <its name>.manifest.json).
+    /// With --variations: where the manifest goes (default: beside the first take, named
+    /// after it with .manifest.json).
     #[arg(long, value_name = "FILE.json", requires = "variations")]
     pub manifest: Option<PathBuf>,
     /// With --variations: render threads (default: one per core).

@@ -299,7 +299,7 @@ pub fn autocorrelation(x: &[f64], max_lag: usize) -> Vec<f64> {
         .collect()
 }
 
-/// Normalized cross-correlation ρ_xy(k) = Σ x[n+k]·y[n] / √(Σx²Σy²) (means removed) for
+/// Normalized cross-correlation ρ_xy(k) = Σ x\[n+k\]·y\[n\] / √(Σx²Σy²) (means removed) for
 /// k = −max_lag..=max_lag; index `max_lag` holds lag 0.
 pub fn cross_correlation(x: &[f64], y: &[f64], max_lag: usize) -> Vec<f64> {
     let n = x.len().min(y.len());

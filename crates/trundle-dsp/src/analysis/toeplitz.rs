@@ -3,7 +3,7 @@
 //! Makhoul 1975) and Levinson's recursion for a general right-hand side (Levinson 1947).
 //! Both are O(L²).
 
-/// Linear-prediction coefficients φ₁ … φ_p (x[n] ≈ Σ φₖ x[n−k]) from the autocorrelation
+/// Linear-prediction coefficients φ₁ … φ_p (x\[n\] ≈ Σ φₖ x\[n−k\]) from the autocorrelation
 /// `r` = r₀ … r_p by the Levinson–Durbin recursion; the prediction error starts at
 /// max(r₀, 10⁻³⁰⁰)·(1 + `diagonal_load`) (a relative load keeps a nearly singular system
 /// stable). The recursion stops early, keeping the coefficients found so far, if the error

@@ -1,7 +1,7 @@
 //! Band splitting for the subspace analysis: heterodyne, low-pass, decimate.
 //!
 //! Each analysis band is an interval [lo, hi) of the spectrum (width B). The real signal is
-//! shifted down by the band centre f_c (x[n]·e^{−i2πf_c n/f_s}), low-passed by a linear-phase
+//! shifted down by the band centre f_c (x\[n\]·e^{−i2πf_c n/f_s}), low-passed by a linear-phase
 //! Kaiser-windowed sinc (flat to ±0.75·B, stop band from f_d − 0.75·B, 80 dB) and kept every
 //! D-th sample (f_d = f_s/D ≈ 4·B). A damped exponential c·zⁿ through any FIR filter stays a
 //! damped exponential once the filter has left the onset, with its amplitude multiplied by
@@ -65,7 +65,7 @@ pub struct BandSignal {
     /// Index of the first decimated sample whose filter window lies wholly inside the
     /// signal (earlier ones are the filter's transient).
     pub start: usize,
-    /// The decimated complex samples y[m] (time m·D from the start of the free decay).
+    /// The decimated complex samples y\[m\] (time m·D from the start of the free decay).
     pub samples: Vec<Complex<f64>>,
     taps: Vec<f64>,
     sample_rate_hz: f64,

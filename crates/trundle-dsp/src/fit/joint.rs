@@ -8,14 +8,14 @@
 //! cancel outside it: the sum added 16–26 dB to the bands below 400 Hz where the recording
 //! is 50–60 dB down (issue #26). Here the amplitudes of all modes are the linear least-squares
 //! solution on the recording itself, full band, over the fitted decay: with the poles fixed
-//! the model x̂[n] = Σₖ Re(Cₖ·zₖⁿ) is linear in (Re Cₖ, Im Cₖ), so the skirts cancel as far
+//! the model x̂\[n\] = Σₖ Re(Cₖ·zₖⁿ) is linear in (Re Cₖ, Im Cₖ), so the skirts cancel as far
 //! as the poles let them, as in the recording (the variable-projection view of Golub &
 //! Pereyra 1973: amplitudes are the linear part of the separable problem).
 //!
-//! The normal equations are built in closed form: with uₖ[n] = Re zₖⁿ and vₖ[n] = −Im zₖⁿ,
+//! The normal equations are built in closed form: with uₖ\[n\] = Re zₖⁿ and vₖ\[n\] = −Im zₖⁿ,
 //! every inner product is a geometric sum, Σₙ₌₀^{N−1} wⁿ = (1 − wᴺ)/(1 − w) with
 //! w = zⱼzₖ or zⱼz̄ₖ, ⟨uⱼ,uₖ⟩ = ½Re(S₁ + S₂), ⟨vⱼ,vₖ⟩ = ½Re(S₂ − S₁),
-//! ⟨uⱼ,vₖ⟩ = −½Im(S₁ − S₂); the right-hand side Σₙ x[n]·zₖⁿ is one phasor pass per mode.
+//! ⟨uⱼ,vₖ⟩ = −½Im(S₁ − S₂); the right-hand side Σₙ x\[n\]·zₖⁿ is one phasor pass per mode.
 //! So the cost is O(N·K + K³) rather than a QR of an N × 2K matrix. The solution is a
 //! pseudo-inverse through the eigendecomposition (eigenvalues under 10⁻¹² of the largest
 //! dropped, so near-equal poles cannot take huge cancelling amplitudes), and it is kept only

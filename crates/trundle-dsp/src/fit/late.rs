@@ -11,7 +11,7 @@
 //! Here each such mode is looked at again after the window, over the rest of the recording
 //! (to its end, past the fit's end when the sample is cut while ringing): in a narrow band
 //! around it, on what the other modes leave, one damped exponential is fitted to the late
-//! part (Prony's one-pole least squares, w = Σ y[m+1]·ȳ[m] / Σ |y[m]|²). When it explains
+//! part (Prony's one-pole least squares, w = Σ y\[m+1\]·ȳ\[m\] / Σ |y\[m\]|²). When it explains
 //! that late part ([`LATE_EXPLAINED`]) and is not the mode's own pole (a quarter of the
 //! window's resolution away in frequency, or a decay [`DECAY_CHANGE`] off), the mode is
 //! replaced by two: the late ring, and an early one (the same one-pole fit on the window's

@@ -6,7 +6,7 @@
 //! does not span (a triangle's or a tubular bell's ring came out 2–7× too short, issue #26).
 //! Here the band's poles wₖ = e^{−αₖ + iωₖ} (per decimated sample) are refined jointly by
 //! nonlinear least squares on the band signal over the whole ring (up to
-//! [`REFINE_SAMPLES`] decimated samples): y[m] ≈ Σₖ cₖ·wₖᵐ, the amplitudes cₖ solved
+//! [`REFINE_SAMPLES`] decimated samples): y\[m\] ≈ Σₖ cₖ·wₖᵐ, the amplitudes cₖ solved
 //! linearly at every step (variable projection: Golub & Pereyra 1973, with Kaufman's 1975
 //! Jacobian J⊥ = P⊥·∂(V·c)/∂θ, P⊥ the projector off the span of the exponentials), the
 //! steps Levenberg–Marquardt damped, accepted only when the residual falls.
@@ -80,7 +80,7 @@ fn poles_of(theta: &[f64]) -> Vec<Complex<f64>> {
 }
 
 /// Refine the poles marked `free` of `poles` (each 0 < |w| < 1; the others stay where they
-/// are but are part of the model) on `y` (the band's steady decimated samples, y[0] the
+/// are but are part of the model) on `y` (the band's steady decimated samples, y\[0\] the
 /// first). `None` when a decomposition fails; the poles are then best left as they were.
 ///
 /// # Allocation

@@ -283,7 +283,7 @@ pub struct RollOptions {
     pub wide_gap_s: f64,
     /// Its ratio.
     pub wide_ratio: f64,
-    /// The contact scale c of the preset the fit is for ([`crate::Params::contact_scale`]):
+    /// The contact scale c of the preset the fit is for ([`crate::source::contact::contact_scale_for`]):
     /// its pulses last c·t₀, so the size is read from the widths divided by c.
     pub contact_scale: f64,
 }

@@ -1,7 +1,7 @@
 //! Subspace estimation of damped complex exponentials: ESPRIT with model-order selection
 //! and a least-squares fit of the complex amplitudes.
 //!
-//! For y[m] = Σₖ cₖ·zₖᵐ + noise (m = 0 … N−1), the L × (N−L+1) Hankel matrix
+//! For y\[m\] = Σₖ cₖ·zₖᵐ + noise (m = 0 … N−1), the L × (N−L+1) Hankel matrix
 //! Y[i, j] = y[i + j] has a K-dimensional column space spanned by the vectors
 //! (1, zₖ, zₖ², …). ESPRIT (Roy & Kailath 1989; the matrix pencil of Hua & Sarkar 1990 is its
 //! row-space twin) takes the K dominant eigenvectors U of R = Y·Yᴴ (the left singular
@@ -136,7 +136,7 @@ pub fn esprit(y: &[Complex<f64>]) -> Option<Exponentials> {
     })
 }
 
-/// Least-squares complex amplitudes c of y[m] ≈ Σₖ cₖ zₖᵐ (SVD of the Vandermonde matrix).
+/// Least-squares complex amplitudes c of y\[m\] ≈ Σₖ cₖ zₖᵐ (SVD of the Vandermonde matrix).
 pub fn amplitudes(y: &[Complex<f64>], poles: &[Complex<f64>]) -> Option<Vec<Complex<f64>>> {
     let n = y.len();
     let k = poles.len();
@@ -156,7 +156,7 @@ pub fn amplitudes(y: &[Complex<f64>], poles: &[Complex<f64>]) -> Option<Vec<Comp
     Some(c.iter().copied().collect())
 }
 
-/// Least-squares amplitudes c of y[m] ≈ Σₖ cₖ·basis(m, k), minimum-norm: singular values
+/// Least-squares amplitudes c of y\[m\] ≈ Σₖ cₖ·basis(m, k), minimum-norm: singular values
 /// of the basis matrix under 10⁻⁸ of the largest are dropped, so that a pair of nearly equal
 /// poles cannot take huge cancelling amplitudes.
 pub fn amplitudes_with(

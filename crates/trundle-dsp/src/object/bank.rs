@@ -9,7 +9,7 @@
 //! y[n] = Σₖ Im zₖ[n]
 //! ```
 //!
-//! so the impulse response of mode k (x[0] = 1) is Im((gₖ + i·hₖ)·pₖⁿ) =
+//! so the impulse response of mode k (x\[0\] = 1) is Im((gₖ + i·hₖ)·pₖⁿ) =
 //! rₖⁿ·(gₖ·sin nωₖ + hₖ·cos nωₖ) = aₖ·rₖⁿ·cos(nωₖ + φₖ) with gₖ = −aₖ·sin φₖ and
 //! hₖ = aₖ·cos φₖ: any starting phase, exactly, from sample 0 (the impulse's own sample).
 //! With the imaginary gain hₖ = 0 (every built-in object) it is gₖ·rₖⁿ·sin(nωₖ): a decaying
@@ -20,7 +20,7 @@
 //! frequency, where direct-form biquads lose their precision. While gₖ is real (hₖ = 0), a
 //! step in the input gain (a mode switched on or off) reaches the output only through the
 //! rotation, one sample later and scaled by rₖ·sin ωₖ: switching a mode's input never
-//! clicks. An imaginary gain hₖ reaches the output at once: a step Δh in it adds Δh·x[n] to
+//! clicks. An imaginary gain hₖ reaches the output at once: a step Δh in it adds Δh·x\[n\] to
 //! the output at that sample, a step of the force's size. Fitted objects, the only ones
 //! with hₖ ≠ 0, set their gains when the object is loaded or a control (quality, the
 //! material's tilt) moves — never with the ball — so this happens only where the sound

@@ -281,7 +281,7 @@ schema! {
         group: Some(Group::Position),
         doc: "manual = the ball stays at position_x/y; line = back and forth across the object through that point; circle = around the centre through that point; the ball moves at velocity V m/s (CMMR §3.3). Paths with gravity (docs/MODEL.md §11), over path_time_s: bowl = circling and spiralling down into a parabolic bowl (radius and speed shrink together to rest at the centre); ramp = released from rest, accelerating uniformly to V along the line; slow-to-stop = along the line, slowing uniformly from V to rest",
     },
-    /// Which engine makes the force: signal model or physics (see [`crate::engine`]).
+    /// Which engine makes the force: signal model or physics (see [`crate::scene::engine_mix`]).
     Engine {
         key: "engine",
         name: "Engine",
@@ -325,7 +325,7 @@ schema! {
         group: None,
         doc: "Output safety limiter: look-ahead 1.5 ms, stereo-linked, ceiling -1 dBFS, acting only on peaks (on by default); off = the engine's level as is",
     },
-    /// What the ball is made of (with the object's material: the contact, [`crate::contact`]).
+    /// What the ball is made of (with the object's material: the contact, [`crate::source::contact`]).
     BallMaterial {
         key: "ball_material",
         name: "Ball material",
@@ -336,7 +336,7 @@ schema! {
         group: Some(Group::Ball),
         doc: "What the ball is made of; with the object's material it sets the Hertz contact (docs/MODEL.md §2): a hard ball on a hard object makes short, bright impacts (steel on metal: pulses 0.17x the papers'), rubber long, dull ones (2.1x); the physics engine's stiffness and mass follow the same materials",
     },
-    /// The gesture: roll, drop or spin ([`crate::gesture`]).
+    /// The gesture: roll, drop or spin ([`crate::scene::gesture`]).
     Gesture {
         key: "gesture",
         name: "Gesture",
@@ -435,7 +435,7 @@ schema! {
         group: None,
         doc: "Loose grit on the surface: grains scattered at random along the path (400 per metre at 1), each an extra impact of random strength proportional to the speed, so their rate is proportional to grit and speed; 0 = a clean surface",
     },
-    /// Balls rolling together, the scene's ball included ([`crate::crowd`]).
+    /// Balls rolling together, the scene's ball included ([`crate::scene::crowd`]).
     Crowd {
         key: "crowd",
         name: "Crowd",

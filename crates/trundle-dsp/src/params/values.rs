@@ -4,7 +4,8 @@
 use super::choice::ParamEnum;
 use super::ParamKind;
 
-/// A row's range and kind, built by [`float`], [`log`], [`percent`], [`int`] or [`choice`].
+/// A row's range and kind, built by the parameter table's constructors (`float`, `log`,
+/// `percent`, `int`, `choice`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Values {
     /// Smallest allowed value.

@@ -24,10 +24,10 @@
 //! **Integration.** Every mode and the bristle are discretized by the trapezoidal rule
 //! (bilinear, frequencies pre-warped so each discrete mode rings exactly at f_k at every
 //! sample rate; unconditionally stable and passive, so the coupled system is as well). Each
-//! mode's velocity at sample n is then a known part plus b_k·(−w_k·f[n]/M): the object's
-//! contact velocity is v_o[n] = V_h − B·f[n] with B = Σ w_k²·b_k/M, the instantaneous
+//! mode's velocity at sample n is then a known part plus b_k·(−w_k·f\[n\]/M): the object's
+//! contact velocity is v_o\[n\] = V_h − B·f\[n\] with B = Σ w_k²·b_k/M, the instantaneous
 //! (delay-free) term of the K-method (Borin, De Poli & Rocchesso 2000). With
-//! z[n] = z[n−1] + (T/2)·(ż[n] + ż[n−1]), the two unknowns (v, z) of each sample solve two
+//! z\[n\] = z\[n−1\] + (T/2)·(ż\[n\] + ż\[n−1\]), the two unknowns (v, z) of each sample solve two
 //! equations, by Newton–Raphson on the analytic Jacobian (at most [`NEWTON_ITERATIONS`]
 //! steps; two or three in practice). The bristle is clamped to twice its largest steady
 //! deflection, every state is checked (a non-finite state resets the contact to rest) and

@@ -19,9 +19,9 @@ pub const DC_BLOCK_HZ: f64 = 5.0;
 /// Samples the DC blocker computes at once (see [`DcBlock`]).
 pub const DC_BLOCK_BLOCK: usize = 4;
 
-/// One-pole DC blocker y[n] = x[n] − x[n−1] + R·y[n−1], R = exp(−2π·f_c/f_s).
+/// One-pole DC blocker y\[n\] = x\[n\] − x\[n−1\] + R·y\[n−1\], R = exp(−2π·f_c/f_s).
 ///
-/// Evaluated [`DC_BLOCK_BLOCK`] samples at a time: with uₙ = x[n] − x[n−1],
+/// Evaluated [`DC_BLOCK_BLOCK`] samples at a time: with uₙ = x\[n\] − x\[n−1\],
 /// y_j = Σ_{i≤j} R^{j−i}·u_i + R^{j+1}·y₋₁ (the same recursion unrolled, the powers of R
 /// computed in f64), so the four outputs are independent sums the compiler vectorizes.
 ///

@@ -1,5 +1,5 @@
-//! Whole-sound changes: the live parameters as one [`Params`] snapshot, and applying a
-//! snapshot back (presets, A/B switches, randomize) as host gestures.
+//! Whole-sound changes: the live parameters as one [`Params`](struct@Params) snapshot, and
+//! applying a snapshot back (presets, A/B switches, randomize) as host gestures.
 
 use super::gesture;
 use super::state::*;
