@@ -237,7 +237,7 @@ pub fn run(args: &CalibrateArgs) -> Result<String, CliError> {
         balls: Vec::new(),
         object: None,
         body_eq: None,
-        fades: None,
+        take: None,
         matched: None,
     };
     let text = preset.to_json() + "\n";

@@ -310,7 +310,7 @@ pub fn run(args: &FitRollArgs) -> Result<String, CliError> {
         balls: Vec::new(),
         object: embedded,
         body_eq: None,
-        fades: None,
+        take: None,
         matched: None,
     };
     // Resynthesis: the preset's force, as long as the recording, analysed the same way.
@@ -425,7 +425,7 @@ fn judge_fit(
         balls: Vec::new(),
         object: object.cloned(),
         body_eq: None,
-        fades: None,
+        take: None,
         matched: None,
     };
     let mut v = preset.new_voice(fs);

@@ -5,7 +5,7 @@
 //! four measures judge the whole take, fades included, and Trundle's scene starts and goes on
 //! at full level. So the match reads the fades off the recording, renders every candidate
 //! with them when the excerpt it matches is the whole recording (its middle has no edges),
-//! and the preset carries them ([`trundle_dsp::scene::fades::Fades`]).
+//! and the preset carries them ([`trundle_dsp::scene::take::Take`]).
 //!
 //! The rule, on the level of 50 ms frames (dB):
 //!
@@ -27,7 +27,7 @@
 //! sawmill in over 0.85 s and out over 0.35 s, the cart on a dirt track in over 0.25 s; the
 //! other ten clips read none.
 
-use trundle_dsp::scene::fades::Fades;
+use trundle_dsp::scene::take::Take;
 
 /// Frames of the level (s).
 pub const FRAME_S: f64 = 0.05;
@@ -52,8 +52,8 @@ pub const MIN_SECONDS: f64 = 1.0;
 /// The level is smoothed over this many frames when timing a fade (150 ms).
 const SMOOTH_FRAMES: usize = 3;
 
-/// The fades of `x` at `sample_rate_hz`, `None` when it has neither ([`Fades`]).
-pub fn read_fades(x: &[f64], sample_rate_hz: f64) -> Option<Fades> {
+/// The fades of `x` at `sample_rate_hz`, `None` when it has neither ([`Take`]).
+pub fn read_fades(x: &[f64], sample_rate_hz: f64) -> Option<Take> {
     let hop = (FRAME_S * sample_rate_hz).round() as usize;
     if hop == 0 || (x.len() as f64) < MIN_SECONDS * sample_rate_hz {
         return None;
@@ -92,8 +92,8 @@ pub fn read_fades(x: &[f64], sample_rate_hz: f64) -> Option<Fades> {
     };
     let fade_in_s = fade(&mut power.iter().copied());
     let fade_out_s = fade(&mut power.iter().rev().copied());
-    let take = Fades::new(fade_in_s, fade_out_s).ok()?;
-    (!take.is_none()).then_some(take)
+    let take = Take::new(0.0, fade_in_s, fade_out_s).ok()?;
+    take.has_fades().then_some(take)
 }
 
 #[cfg(test)]
@@ -114,7 +114,7 @@ mod tests {
         assert_eq!(read_fades(&x, fs), None);
         // Faded in over 0.5 s and out over 0.3 s: read within a frame or two (the rule
         // times the level's −6 dB point, which the noise moves by ±1 frame of 50 ms).
-        let faded = Fades::new(0.5, 0.3).unwrap();
+        let faded = Take::new(0.0, 0.5, 0.3).unwrap();
         let y: Vec<f64> = x
             .iter()
             .enumerate()

@@ -26,7 +26,7 @@ use trundle_dsp::analysis::compare::spectrum::{
 use trundle_dsp::analysis::compare::{compare_profiles, profile, Comparison, Profile};
 use trundle_dsp::fit::cmaes::{CmaEs, Settings};
 use trundle_dsp::object::fitted::LoadedObject;
-use trundle_dsp::scene::fades::Fades;
+use trundle_dsp::scene::take::Take;
 use trundle_dsp::{ParamId, Params, Voice};
 
 /// What every candidate is judged against.
@@ -45,7 +45,7 @@ pub struct Target {
     pub tonal: bool,
     /// The recording's fades, which every candidate is rendered with
     /// ([`crate::match_edges::read_fades`]).
-    pub fades: Option<Fades>,
+    pub take: Option<Take>,
 }
 
 /// What spectrum-shaped noise scores against the recording: the baseline a match must beat
@@ -202,6 +202,10 @@ pub const FRICTION_LEAD_S: f64 = 0.75;
 /// Extra lead-in (s) per step of a friction candidate's seed ([`friction_lead_s`]).
 pub const FRICTION_LEAD_STEP_S: f64 = 0.25;
 
+/// The pre-roll of a matched friction preset (s): the lead-in of the search's second seed,
+/// between the two its candidates were heard after ([`friction_lead_s`] of seeds 1 and 2).
+pub const PRESET_PRE_ROLL_S: f64 = FRICTION_LEAD_S + FRICTION_LEAD_STEP_S;
+
 /// The lead-in (s) of a friction candidate rendered at `seed`: [`FRICTION_LEAD_S`] plus
 /// [`FRICTION_LEAD_STEP_S`] × ((seed − 1) mod 3), so the search's seeds 1 and 2 get the
 /// two shortest (a lead-in is rendered and thrown away: CPU time). The stick-slip contact is deterministic — its
@@ -233,7 +237,7 @@ pub fn render(target: &Target, params: &Params, seed: u32) -> Vec<f64> {
     for b in out.chunks_mut(4096) {
         v.process(b);
     }
-    if let Some(fades) = &target.fades {
+    if let Some(fades) = &target.take {
         let n = target.samples as u64;
         fades.apply(&mut out[lead..], 1, 0, n, target.sample_rate_hz);
     }

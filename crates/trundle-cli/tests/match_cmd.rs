@@ -196,7 +196,7 @@ fn a_recordings_fades_are_read_and_the_preset_plays_them() {
     let dir = s.path();
     std::fs::write(
         dir.join("faded.json"),
-        r#"{"trundle_preset": 1, "name": "faded", "fades": {"fade_in_s": 0.6, "fade_out_s": 0.4}}"#,
+        r#"{"trundle_preset": 1, "name": "faded", "take": {"fade_in_s": 0.6, "fade_out_s": 0.4}}"#,
     )
     .unwrap();
     common::render(
@@ -206,13 +206,13 @@ fn a_recordings_fades_are_read_and_the_preset_plays_them() {
         "target.wav",
     );
     let (r, _) = matched(dir, &["--budget", "24"]);
-    let fade_in = r["fades"]["fade_in_s"].as_f64().expect("fades read");
-    let fade_out = r["fades"]["fade_out_s"].as_f64().unwrap();
-    assert!((fade_in - 0.6).abs() <= 0.15, "{:#}", r["fades"]);
-    assert!((fade_out - 0.4).abs() <= 0.15, "{:#}", r["fades"]);
+    let fade_in = r["take"]["fade_in_s"].as_f64().expect("fades read");
+    let fade_out = r["take"]["fade_out_s"].as_f64().unwrap();
+    assert!((fade_in - 0.6).abs() <= 0.15, "{:#}", r["take"]);
+    assert!((fade_out - 0.4).abs() <= 0.15, "{:#}", r["take"]);
     let preset: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("m.json")).unwrap()).unwrap();
-    assert_eq!(preset["fades"], r["fades"]);
+    assert_eq!(preset["take"], r["take"]);
     // The preset's render plays them: its first 50 ms far under its middle, and with
     // --no-fades not.
     let level_db = |file: &str, from: usize, to: usize| {
@@ -245,7 +245,7 @@ fn a_recordings_fades_are_read_and_the_preset_plays_them() {
     render(dir, &[], "3", "77", "plain.wav");
     std::fs::remove_file(dir.join("m.json")).unwrap();
     let (r, _) = common::matched_file(dir, "plain.wav", &["--seconds", "3", "--budget", "24"]);
-    assert!(r["fades"].is_null(), "{:#}", r["fades"]);
+    assert!(r["take"].is_null(), "{:#}", r["take"]);
 }
 
 #[test]

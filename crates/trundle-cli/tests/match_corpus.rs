@@ -103,7 +103,7 @@ const KNOWN_OUTSIDE: [(&str, &str); 12] = [
     ),
     (
         "finger round a glass rim",
-        "a pitched rub, friction chosen on its pitch (735 Hz) with strokes and micro: modulation 3.6 dB, texture 1.65 (shaped noise 1.16; two weak bands' envelopes move together, 0.44 against 0.03), not brighter at 1.5x (x1.00)",
+        "a pitched rub, friction chosen on its pitch (735 Hz) with strokes and micro, rendered after a 1 s pre-roll: 3 measures at every seed but texture 1.35 (shaped noise 1.16; its weak low bands bump on their own, the model's follow the tone), not brighter at 1.5x (x1.00)",
     ),
 ];
 

@@ -283,13 +283,13 @@ fn force_flag_overwrites_and_its_absence_protects() {
 
 /// A preset's fades (what `trundle match` writes for a recording that fades in or out) are
 /// played over the render's first and last seconds and nowhere else; `--no-fades` leaves
-/// them out; a malformed `fades` is refused with its field named.
+/// them out; a malformed `take` is refused with its field named.
 #[test]
 fn a_presets_fades_shape_the_edges_only() {
-    let d = scratch("fades");
+    let d = scratch("take");
     fs::write(
         d.join("faded.json"),
-        r#"{"trundle_preset": 1, "name": "faded", "fades": {"fade_in_s": 0.2, "fade_out_s": 0.1}}"#,
+        r#"{"trundle_preset": 1, "name": "faded", "take": {"fade_in_s": 0.2, "fade_out_s": 0.1}}"#,
     )
     .unwrap();
     let r = |name: &str, extra: &[&str]| {
@@ -329,10 +329,78 @@ fn a_presets_fades_shape_the_edges_only() {
     assert!(faded_energy > 100.0 * step, "{faded_energy}");
     fs::write(
         d.join("bad.json"),
-        r#"{"trundle_preset": 1, "name": "bad", "fades": {"fade_in_s": -2}}"#,
+        r#"{"trundle_preset": 1, "name": "bad", "take": {"fade_in_s": -2}}"#,
     )
     .unwrap();
     let o = run(&d, &["render", "--preset", "bad.json", "-o", "bad.wav"]);
     assert_eq!(o.status.code(), Some(2));
-    assert!(stderr(&o).contains("fades: fade_in_s"), "{}", stderr(&o));
+    assert!(stderr(&o).contains("take: fade_in_s"), "{}", stderr(&o));
+}
+
+/// A preset's pre-roll (what `trundle match` writes for a friction match) runs the scene
+/// before the first sample: the render is the same samples as a longer render without it,
+/// from the pre-roll on, and its impacts are timed from its own first sample.
+#[test]
+fn a_presets_pre_roll_starts_the_render_into_the_scene() {
+    let d = scratch("pre-roll");
+    fs::write(
+        d.join("rolled.json"),
+        r#"{"trundle_preset": 1, "name": "rolled", "take": {"pre_roll_s": 0.5}}"#,
+    )
+    .unwrap();
+    fs::write(
+        d.join("plain.json"),
+        r#"{"trundle_preset": 1, "name": "plain"}"#,
+    )
+    .unwrap();
+    let common = [
+        "--sample-rate",
+        "48000",
+        "--no-normalize",
+        "--format",
+        "f32",
+    ];
+    let args = |preset: &'static str, seconds: &'static str, out: &'static str| {
+        let mut a = vec![
+            "render",
+            "--preset",
+            preset,
+            "--seconds",
+            seconds,
+            "-o",
+            out,
+        ];
+        a.extend_from_slice(&common);
+        a
+    };
+    let mut rolled_args = args("rolled.json", "0.5", "rolled.wav");
+    rolled_args.extend_from_slice(&["--impacts", "rolled.csv"]);
+    ok(&d, &rolled_args);
+    let mut plain_args = args("plain.json", "1", "plain.wav");
+    plain_args.extend_from_slice(&["--impacts", "plain.csv"]);
+    ok(&d, &plain_args);
+    let rolled = read_wav(&d.join("rolled.wav")).1;
+    let plain = read_wav(&d.join("plain.wav")).1;
+    assert_eq!(rolled.len(), 2 * 24_000);
+    assert_eq!(rolled[..], plain[2 * 24_000..]);
+    // The impacts: the plain render's second half, 0.5 s earlier.
+    let times = |file: &str| -> Vec<f64> {
+        fs::read_to_string(d.join(file))
+            .unwrap()
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').next().unwrap().parse::<f64>().unwrap())
+            .collect()
+    };
+    let later: Vec<f64> = times("plain.csv")
+        .into_iter()
+        .filter(|&t| t >= 0.5)
+        .map(|t| t - 0.5)
+        .collect();
+    let own = times("rolled.csv");
+    assert!(!own.is_empty());
+    assert_eq!(own.len(), later.len());
+    for (a, b) in own.iter().zip(&later) {
+        assert!((a - b).abs() < 1e-9, "{a} vs {b}");
+    }
 }

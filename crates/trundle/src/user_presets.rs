@@ -160,7 +160,7 @@ impl PresetStore {
             balls: Vec::new(),
             object,
             body_eq,
-            fades: None,
+            take: None,
             matched: None,
         };
         fs::create_dir_all(&self.dir)

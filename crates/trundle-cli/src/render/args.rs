@@ -122,7 +122,7 @@ pub struct RenderArgs {
     #[arg(long, conflicts_with_all = ["force_only", "impacts"])]
     pub impulse: bool,
 
-    /// Leave out the preset's fades (`"fades"`, which `trundle match` writes when its
+    /// Leave out the preset's fades (its `take`, which `trundle match` writes when its
     /// recording fades in or out): the render starts and ends at full level.
     #[arg(long)]
     pub no_fades: bool,

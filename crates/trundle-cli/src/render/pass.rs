@@ -100,8 +100,8 @@ pub(super) struct Impacts {
 /// ([`process_stereo_with_events`]) when `plan.channels` is 2, else the mono mix
 /// ([`process_with_events`]). Drain impacts after each block; count and zero non-finite
 /// samples (the voice flushes them itself: this only guards the file); play the preset's
-/// fades over the `frames` rendered; hand each block to `sink` as `(left, Some(right))` or
-/// `(mono, None)`.
+/// take (its pre-roll before the first block, its fades over the `frames` rendered); hand
+/// each block to `sink` as `(left, Some(right))` or `(mono, None)`.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn render_pass(
     voice: &mut Voice,
@@ -123,6 +123,24 @@ pub(super) fn render_pass(
         &plan.events,
         f64::from(plan.sample_rate),
     );
+    // The take's pre-roll: the scene runs before the first sample, unheard (its impacts
+    // are not the render's either).
+    let pre_roll_s = plan.take.map_or(0.0, |t| {
+        t.pre_roll_frames(f64::from(plan.sample_rate)) as f64 / f64::from(plan.sample_rate)
+    });
+    if let Some(t) = &plan.take {
+        let mut left_over = t.pre_roll_frames(f64::from(plan.sample_rate));
+        while left_over > 0 {
+            let n = left_over.min(BLOCK as u64) as usize;
+            if stereo {
+                voice.process_stereo(&mut left[..n], &mut right[..n]);
+            } else {
+                voice.process(&mut left[..n]);
+            }
+            voice.drain_impacts(|_| {});
+            left_over -= n as u64;
+        }
+    }
     while done < frames {
         let n = (frames - done).min(BLOCK as u64) as usize;
         let l = &mut left[..n];
@@ -140,17 +158,19 @@ pub(super) fn render_pass(
                 *x = 0.0;
             }
         }
-        if let Some(f) = &plan.fades {
+        if let Some(t) = &plan.take {
             let fs = f64::from(plan.sample_rate);
-            f.apply(l, 1, done, frames, fs);
+            t.apply(l, 1, done, frames, fs);
             if let Some(r) = r.as_deref_mut() {
-                f.apply(r, 1, done, frames, fs);
+                t.apply(r, 1, done, frames, fs);
             }
         }
         let count = &mut impacts.count;
-        impacts.dropped += voice.drain_impacts(|rec| {
+        impacts.dropped += voice.drain_impacts(|mut rec| {
             *count += 1;
             if let Some(c) = csv.as_mut() {
+                // Times from the render's first sample, not the pre-roll's.
+                rec.time_s -= pre_roll_s;
                 c.row(&rec);
             }
         });

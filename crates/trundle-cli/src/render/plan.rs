@@ -11,8 +11,8 @@ use trundle_dsp::object::fitted::LoadedObject;
 use trundle_dsp::params::{spec_by_key, Output, ParamEnum, ParamId};
 use trundle_dsp::scene::body_eq::BodyEqCurve;
 use trundle_dsp::scene::events::VoiceEvent;
-use trundle_dsp::scene::fades::Fades;
 use trundle_dsp::scene::preset::{Lane, Preset};
+use trundle_dsp::scene::take::Take;
 use trundle_dsp::Params;
 use trundle_io::object_file::read_loaded_object;
 use trundle_io::preset_file::read_preset_file;
@@ -49,9 +49,10 @@ pub(crate) struct Plan {
     pub(super) object: Option<Arc<LoadedObject>>,
     /// The preset's body EQ curve (`body_eq` sets how much plays).
     pub(super) body_eq: Option<Arc<BodyEqCurve>>,
-    /// The preset's fades, played at the render's start and end (none for an impulse
-    /// response or with `--no-fades`).
-    pub(super) fades: Option<Fades>,
+    /// The preset's take: the scene's pre-roll before the first sample, the fades at the
+    /// render's start and end (no fades with `--no-fades`; none of it for an impulse
+    /// response).
+    pub(super) take: Option<Take>,
     /// Render the impulse response (`--impulse`); `frames` is then the longest length
     /// unless `--seconds` fixed it.
     pub(super) impulse: bool,
@@ -241,7 +242,10 @@ pub(crate) fn plan(args: &RenderArgs, take: Option<TakeOverride>) -> Result<Plan
         overwrite: args.force,
         object,
         body_eq: preset.body_eq.clone(),
-        fades: preset.fades.filter(|_| !args.no_fades && !args.impulse),
+        take: preset
+            .take
+            .map(|t| if args.no_fades { t.without_fades() } else { t })
+            .filter(|t| !t.is_none() && !args.impulse),
         impulse: args.impulse,
         seconds_given: args.seconds.is_some(),
     })

@@ -18,7 +18,7 @@
 //! | [`limiter`] | the look-ahead, stereo-linked safety limiter |
 //! | [`events`] | notes and automation split the block where they fall |
 //! | [`impulse`] | the object struck once (an offline render) |
-//! | [`fades`] | a finite take's fade-in and fade-out (an offline render) |
+//! | [`take`] | a finite take's edges: its pre-roll, fade-in and fade-out (an offline render) |
 //! | `preset` (feature `presets`) | preset files |
 
 pub mod balls;
@@ -27,7 +27,6 @@ pub mod bumps;
 pub mod crowd;
 pub mod engine_mix;
 pub mod events;
-pub mod fades;
 pub mod floor;
 pub mod gesture;
 pub mod hand;
@@ -37,5 +36,6 @@ pub mod limiter;
 pub mod preset;
 pub mod space;
 pub mod stop;
+pub mod take;
 pub mod twins;
 pub mod voice;

@@ -37,9 +37,11 @@
 //!   `{"bands_hz": [...], "gain_db": [...]}`, gains (±40 dB) at increasing centres,
 //!   interpolated onto the third-octave bands; the `body_eq` control sets how much plays.
 //!   Absent = no curve (the model's own spectrum). `trundle match` writes it.
-//! * `fades` (optional) gives an offline render a finite take's edges ([`crate::scene::fades`]):
-//!   `{"fade_in_s": 0.4, "fade_out_s": 0.3}`, linear fades of 0–60 s at the render's start
-//!   and end. `trundle match` writes it when its recording fades in or out; the plugin,
+//! * `take` (optional) gives an offline render a finite take's edges ([`crate::scene::take`]):
+//!   `{"pre_roll_s": 1, "fade_in_s": 0.4, "fade_out_s": 0.3}`, the scene run for `pre_roll_s`
+//!   before the first sample, linear fades of 0–60 s at the render's start and end, each
+//!   optional. `trundle match` writes it (a friction match's pre-roll, a recording's
+//!   fades); the plugin,
 //!   which plays on without an end, ignores it.
 //! * `match` (optional) is what `trundle match` recorded: the recording, the distance at the
 //!   seeds it was validated at, each measure's value and verdict (docs/guide/match.md). Kept as
@@ -50,7 +52,7 @@
 use crate::object::fitted::{self, LoadedObject, ObjectFile};
 use crate::params::{spec_by_key, ParamError, ParamId, ParamKind, ParamSpec, Params, PARAMS};
 use crate::scene::body_eq::{self, BodyEqCurve};
-use crate::scene::fades::Fades;
+use crate::scene::take::Take;
 use core::fmt;
 use serde_json::{Map, Value};
 use std::sync::Arc;
@@ -87,8 +89,9 @@ pub struct Preset {
     pub object: Option<ObjectFile>,
     /// The body EQ curve (`None`: no curve, the model's own spectrum).
     pub body_eq: Option<Arc<BodyEqCurve>>,
-    /// The fades of a finite take an offline render plays (`None`: none; [`Fades`]).
-    pub fades: Option<Fades>,
+    /// How an offline render takes the scene: its pre-roll and fades (`None`: none;
+    /// [`Take`]).
+    pub take: Option<Take>,
     /// What `trundle match` recorded of how close the preset came to its recording (the
     /// `"match"` object, kept as written; `None`: not a match).
     pub matched: Option<Value>,
@@ -164,8 +167,8 @@ pub enum PresetError {
     Object(String),
     /// A malformed body EQ curve.
     BodyEq(String),
-    /// Malformed fades.
-    Fades(String),
+    /// A malformed take.
+    Take(String),
 }
 
 impl fmt::Display for PresetError {
@@ -182,7 +185,7 @@ impl fmt::Display for PresetError {
             PresetError::Balls(e) => write!(f, "balls: {e}"),
             PresetError::Object(e) => write!(f, "object: {e}"),
             PresetError::BodyEq(e) => write!(f, "body_eq: {e}"),
-            PresetError::Fades(e) => write!(f, "fades: {e}"),
+            PresetError::Take(e) => write!(f, "take: {e}"),
             PresetError::UnknownBuiltin(n) => {
                 write!(f, "no built-in preset '{n}' (available: ")?;
                 for (i, (stem, _)) in BUILTIN_PRESETS.iter().enumerate() {
@@ -224,7 +227,7 @@ impl Preset {
                     | "balls"
                     | "object"
                     | "body_eq"
-                    | "fades"
+                    | "take"
                     | "match"
             ) {
                 return Err(PresetError::Syntax(format!("unknown field '{key}'")));
@@ -284,9 +287,9 @@ impl Preset {
                 body_eq::json::from_json(v).map_err(PresetError::BodyEq)?,
             )),
         };
-        let fades = match obj.get("fades") {
+        let take = match obj.get("take") {
             None => None,
-            Some(v) => Some(parse_fades(v)?),
+            Some(v) => Some(parse_take(v)?),
         };
         let matched = match obj.get("match") {
             None => None,
@@ -305,7 +308,7 @@ impl Preset {
             balls,
             object,
             body_eq,
-            fades,
+            take,
             matched,
         })
     }
@@ -426,11 +429,12 @@ impl Preset {
         if let Some(c) = &self.body_eq {
             top.insert("body_eq".into(), body_eq::json::to_json(c));
         }
-        if let Some(t) = &self.fades {
+        if let Some(t) = &self.take {
             let mut m = Map::new();
+            m.insert("pre_roll_s".into(), Value::from(t.pre_roll_s));
             m.insert("fade_in_s".into(), Value::from(t.fade_in_s));
             m.insert("fade_out_s".into(), Value::from(t.fade_out_s));
-            top.insert("fades".into(), Value::Object(m));
+            top.insert("take".into(), Value::Object(m));
         }
         if let Some(m) = &self.matched {
             top.insert("match".into(), m.clone());
@@ -524,23 +528,25 @@ fn parse_automation(v: &Value) -> Result<Vec<Lane>, PresetError> {
     Ok(lanes)
 }
 
-/// Fades: `{"fade_in_s": s, "fade_out_s": s}`, each optional (0), nothing else.
-fn parse_fades(v: &Value) -> Result<Fades, PresetError> {
+/// A take: `{"pre_roll_s": s, "fade_in_s": s, "fade_out_s": s}`, each optional (0), nothing
+/// else.
+fn parse_take(v: &Value) -> Result<Take, PresetError> {
     let obj = v
         .as_object()
-        .ok_or_else(|| PresetError::Fades("must be an object".into()))?;
-    let mut fades = [0.0; 2];
+        .ok_or_else(|| PresetError::Take("must be an object".into()))?;
+    let mut edges = [0.0; 3];
     for (key, value) in obj {
         let slot = match key.as_str() {
-            "fade_in_s" => &mut fades[0],
-            "fade_out_s" => &mut fades[1],
-            _ => return Err(PresetError::Fades(format!("unknown field '{key}'"))),
+            "pre_roll_s" => &mut edges[0],
+            "fade_in_s" => &mut edges[1],
+            "fade_out_s" => &mut edges[2],
+            _ => return Err(PresetError::Take(format!("unknown field '{key}'"))),
         };
         *slot = value
             .as_f64()
-            .ok_or_else(|| PresetError::Fades(format!("{key} must be a number")))?;
+            .ok_or_else(|| PresetError::Take(format!("{key} must be a number")))?;
     }
-    Fades::new(fades[0], fades[1]).map_err(|e| PresetError::Fades(e.to_string()))
+    Take::new(edges[0], edges[1], edges[2]).map_err(|e| PresetError::Take(e.to_string()))
 }
 
 fn parse_balls(v: &Value) -> Result<Vec<BallNote>, PresetError> {

@@ -1,5 +1,5 @@
 //! The preset files' unit tests: every built-in preset loads and round-trips, bad files give
-//! clear errors, automation, balls and fades parse, validate and round-trip.
+//! clear errors, automation, balls and takes parse, validate and round-trip.
 
 use super::*;
 use crate::params::ParamId;
@@ -36,28 +36,28 @@ fn bad_files_give_clear_errors() {
     );
     assert!(e(r#"{"trundle_preset": 1, "name": "x", "params": {"size": "big"}}"#).contains("size"));
     assert!(e(r#"{"trundle_preset": 1, "name": "x", "extra": 1}"#).contains("unknown field"));
-    // Fades: numbers of seconds 0–60, nothing else.
+    // Take: numbers of seconds 0–60, nothing else.
     assert!(
-        e(r#"{"trundle_preset": 1, "name": "x", "fades": 1}"#).contains("fades: must be an object")
+        e(r#"{"trundle_preset": 1, "name": "x", "take": 1}"#).contains("take: must be an object")
     );
     assert!(
-        e(r#"{"trundle_preset": 1, "name": "x", "fades": {"fade_in_s": -1}}"#)
-            .contains("fades: fade_in_s must be a number of seconds")
+        e(r#"{"trundle_preset": 1, "name": "x", "take": {"fade_in_s": -1}}"#)
+            .contains("take: fade_in_s must be a number of seconds")
     );
     assert!(
-        e(r#"{"trundle_preset": 1, "name": "x", "fades": {"fade_out_s": "x"}}"#)
+        e(r#"{"trundle_preset": 1, "name": "x", "take": {"fade_out_s": "x"}}"#)
             .contains("fade_out_s must be a number")
     );
     assert!(
-        e(r#"{"trundle_preset": 1, "name": "x", "fades": {"fade": 1}}"#)
-            .contains("fades: unknown field 'fade'")
+        e(r#"{"trundle_preset": 1, "name": "x", "take": {"fade": 1}}"#)
+            .contains("take: unknown field 'fade'")
     );
     let t = Preset::from_json(
-        r#"{"trundle_preset": 1, "name": "x", "fades": {"fade_in_s": 0.4, "fade_out_s": 0.25}}"#,
+        r#"{"trundle_preset": 1, "name": "x", "take": {"pre_roll_s": 1, "fade_in_s": 0.4, "fade_out_s": 0.25}}"#,
     )
     .unwrap();
-    assert_eq!(t.fades, Some(Fades::new(0.4, 0.25).unwrap()));
-    assert_eq!(Preset::from_json(&t.to_json()).unwrap().fades, t.fades);
+    assert_eq!(t.take, Some(Take::new(1.0, 0.4, 0.25).unwrap()));
+    assert_eq!(Preset::from_json(&t.to_json()).unwrap().take, t.take);
     let p = Preset::from_json(r#"{"trundle_preset": 1, "name": "x", "params": {"shape": "bar"}}"#)
         .unwrap();
     assert_eq!(p.params.get(ParamId::Shape), 1.0);
