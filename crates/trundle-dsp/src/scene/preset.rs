@@ -41,8 +41,8 @@
 //!   `{"pre_roll_s": 1, "fade_in_s": 0.4, "fade_out_s": 0.3}`, the scene run for `pre_roll_s`
 //!   before the first sample, linear fades of 0–60 s at the render's start and end, each
 //!   optional. `trundle match` writes it (a friction match's pre-roll, a recording's
-//!   fades); the plugin,
-//!   which plays on without an end, ignores it.
+//!   fades); the plugin and the runtime, which play on from the first touch without an
+//!   end, ignore it.
 //! * `match` (optional) is what `trundle match` recorded: the recording, the distance at the
 //!   seeds it was validated at, each measure's value and verdict (docs/guide/match.md). Kept as
 //!   written; it does not change the sound.

@@ -20,8 +20,10 @@
 //! the render's first sample (the samples are thrown away): the take starts in the middle
 //! of the action, as `trundle match` heard its friction candidates (after a lead-in).
 //!
-//! Only a render of known length has an end; the plugin plays continuously and does not
-//! play a take's fades (a DAW's clip fades do that job there).
+//! Only an offline render (`trundle render`, `render --variations`) has a start and an end;
+//! the plugin and the runtime (`trundle-runtime`, its C and Python bindings) play
+//! continuously from the first touch and do not play a take (a DAW's clip fades, or a
+//! game's own, do that job there).
 
 /// The longest fade or pre-roll (s) a take may have.
 pub const MAX_FADE_S: f64 = 60.0;
