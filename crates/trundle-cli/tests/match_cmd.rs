@@ -188,8 +188,9 @@ fn an_inharmonic_chord_is_reported_as_outside_naming_the_measure() {
 
 /// A recording that fades in and out (a roll rendered with fades of 0.6 s and 0.4 s) has
 /// its fades read (within 0.15 s: the rule times the level's −6 dB point in 50 ms frames
-/// smoothed over 150 ms), reported, written into the preset and played by its render; a
-/// recording without fades gets none (`a_roll_is_matched…`'s target, checked here too).
+/// smoothed over 150 ms), reported, written into the preset and played by its render, also
+/// when the recording is longer than the excerpt matched; a recording without fades gets
+/// none (`a_roll_is_matched…`'s target, checked here too).
 #[test]
 fn a_recordings_fades_are_read_and_the_preset_plays_them() {
     let s = scratch("match-fades");
@@ -241,6 +242,38 @@ fn a_recordings_fades_are_read_and_the_preset_plays_them() {
             "{file}: the first 50 ms {under:.1} dB under"
         );
     }
+    // A recording longer than the excerpt: its fades are read off the whole of it and the
+    // preset plays them, but the candidates (its middle) do not hear them, and the report
+    // says so.
+    common::render(
+        dir,
+        &["--preset", "faded.json", "--seconds", "5", "--seed", "78"],
+        &[],
+        "long.wav",
+    );
+    let o = run(
+        dir,
+        &[
+            "match",
+            "long.wav",
+            "-o",
+            "long.json",
+            "--seconds",
+            "2",
+            "--budget",
+            "16",
+        ],
+    );
+    let text = stdout(&o);
+    assert!(
+        text.contains("edges: the recording fades in over")
+            && text.contains("the candidates, the recording's middle, do not"),
+        "{text}{}",
+        stderr(&o)
+    );
+    let long: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("long.json")).unwrap()).unwrap();
+    assert!((long["take"]["fade_in_s"].as_f64().unwrap() - 0.6).abs() <= 0.15);
     // Without fades, none.
     render(dir, &[], "3", "77", "plain.wav");
     std::fs::remove_file(dir.join("m.json")).unwrap();
