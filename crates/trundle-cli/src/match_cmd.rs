@@ -42,7 +42,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 use trundle_dsp::analysis::compare::{profile, Comparison, Verdict, TOP_HZ};
 use trundle_dsp::object::fitted::{LoadedObject, ObjectFile};
-use trundle_dsp::scene::preset::Preset;
+use trundle_dsp::scene::preset::{take_to_json, Preset};
 use trundle_dsp::scene::take::Take;
 use trundle_dsp::{ParamId, Params};
 
@@ -403,11 +403,7 @@ pub fn run(args: &MatchArgs) -> Result<(String, u8), CliError> {
         "validation": per_seed,
         "action": action,
         "start_estimate": estimate.describe(),
-        "take": take.map(|t| json!({
-            "pre_roll_s": t.pre_roll_s,
-            "fade_in_s": t.fade_in_s,
-            "fade_out_s": t.fade_out_s,
-        })),
+        "take": take.as_ref().map(take_to_json),
         "tone": tone.map(|t| json!({
             "pitch_hz": t.pitch_hz,
             "harmonic_share": t.harmonic_share,

@@ -239,7 +239,7 @@ pub fn render(target: &Target, params: &Params, seed: u32) -> Vec<f64> {
     }
     if let Some(fades) = &target.take {
         let n = target.samples as u64;
-        fades.apply(&mut out[lead..], 1, 0, n, target.sample_rate_hz);
+        fades.apply(&mut out[lead..], 0, n, target.sample_rate_hz);
     }
     out[lead..].iter().map(|&s| f64::from(s)).collect()
 }

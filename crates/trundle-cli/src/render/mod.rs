@@ -12,24 +12,24 @@
 //!                        ─► quantize ─► WAV (temp file, renamed into place)
 //! ```
 //!
-//! Everything the user gave is validated before anything is rendered or written: a bad
-//! argument costs nothing and touches no file. Then the render runs block by block; impacts
-//! are drained after every block into a buffered CSV writer. The object's sound is written
-//! in stereo unless `--channels 1` asks for its mono mix ((L + R)/2, which is what
-//! [`trundle_dsp::Voice::process`] renders); the force (`--force-only`, `output = force`) is mono unless
-//! `--channels 2` asks for it on both channels. Peak normalization needs the whole render's
-//! peak (over both channels: one gain keeps the stereo image) before the first sample is
-//! written, so the render is spooled, interleaved — in memory up to [`crate::output::MEM_SPOOL_SAMPLES`]
-//! samples, beyond that to a temporary raw file next to the output (removed afterwards) —
-//! and scaled on the way out. The calibrated path (`--no-normalize`) streams straight to
-//! the WAV through [`crate::level::AlignedLimiter`] (see [`crate::level`]). The files themselves are
-//! written by [`crate::output`].
+//! Everything the user gave is validated before anything is rendered or written: a bad argument
+//! costs nothing and touches no file. Then the render runs block by block; impacts are drained
+//! after every block into a buffered CSV writer. The object's sound is written in stereo unless
+//! `--channels 1` asks for its mono mix ((L + R)/2, which is what [`trundle_dsp::Voice::process`]
+//! renders); the force (`--force-only`, `output = force`) is mono unless `--channels 2` asks for it
+//! on both channels. Peak normalization needs the whole render's peak (over both channels: one gain
+//! keeps the stereo image) before the first sample is written, so the render is spooled,
+//! interleaved — in memory up to [`crate::output::MEM_SPOOL_SAMPLES`] samples, beyond that to a
+//! temporary raw file next to the output (removed afterwards) — and scaled on the way out. The
+//! calibrated path (`--no-normalize`) streams straight to the WAV through
+//! [`crate::level::AlignedLimiter`] (see [`crate::level`]). The files themselves are written by
+//! [`crate::output`].
 //!
-//! The command is split by what it does: [`args`] holds the command's arguments and limits
-//! (a leaf), [`plan`](mod@plan) validates them into a [`Plan`](plan::Plan), [`pass`] runs the
-//! voice block by block, [`write`](mod@write) levels and writes the files; no file of the command imports this
-//! one, which only wires them. Object and
-//! preset files are read by the shared file layer ([`trundle_io`]).
+//! The command is split by what it does: [`args`] holds the command's arguments and limits (a
+//! leaf), [`plan`](mod@plan) validates them into a [`Plan`](plan::Plan), [`pass`] runs the voice
+//! block by block, [`write`](mod@write) levels and writes the files; no file of the command imports
+//! this one, which only wires them. Object and preset files are read by the shared file layer
+//! ([`trundle_io`]).
 
 mod args;
 mod pass;

@@ -125,22 +125,20 @@ pub(super) fn render_pass(
     );
     // The take's pre-roll: the scene runs before the first sample, unheard (its impacts
     // are not the render's either).
-    let pre_roll_s = plan.take.map_or(0.0, |t| {
-        t.pre_roll_frames(f64::from(plan.sample_rate)) as f64 / f64::from(plan.sample_rate)
-    });
-    if let Some(t) = &plan.take {
-        let mut left_over = t.pre_roll_frames(f64::from(plan.sample_rate));
-        while left_over > 0 {
-            let n = left_over.min(BLOCK as u64) as usize;
-            if stereo {
-                voice.process_stereo(&mut left[..n], &mut right[..n]);
-            } else {
-                voice.process(&mut left[..n]);
-            }
-            voice.drain_impacts(|_| {});
-            left_over -= n as u64;
+    let fs = f64::from(plan.sample_rate);
+    let pre_roll = plan.take.map_or(0, |t| t.pre_roll_frames(fs));
+    let mut left_over = pre_roll;
+    while left_over > 0 {
+        let n = left_over.min(BLOCK as u64) as usize;
+        if stereo {
+            voice.process_stereo(&mut left[..n], &mut right[..n]);
+        } else {
+            voice.process(&mut left[..n]);
         }
+        voice.drain_impacts(|_| {});
+        left_over -= n as u64;
     }
+    let pre_roll_s = pre_roll as f64 / fs;
     while done < frames {
         let n = (frames - done).min(BLOCK as u64) as usize;
         let l = &mut left[..n];
@@ -159,10 +157,9 @@ pub(super) fn render_pass(
             }
         }
         if let Some(t) = &plan.take {
-            let fs = f64::from(plan.sample_rate);
-            t.apply(l, 1, done, frames, fs);
+            t.apply(l, done, frames, fs);
             if let Some(r) = r.as_deref_mut() {
-                t.apply(r, 1, done, frames, fs);
+                t.apply(r, done, frames, fs);
             }
         }
         let count = &mut impacts.count;

@@ -237,8 +237,8 @@ pub(super) fn execute(plan: &Plan) -> Result<String, CliError> {
     Ok(line)
 }
 
-/// `--impulse`: render [`trundle_dsp::scene::impulse::impulse_response`] and write it (normalized, or at the modes' own
-/// level behind the never-clip guard with --no-normalize).
+/// `--impulse`: render [`trundle_dsp::scene::impulse::impulse_response`] and write it
+/// (normalized, or at the modes' own level behind the never-clip guard with --no-normalize).
 pub(super) fn execute_impulse(plan: &Plan) -> Result<String, CliError> {
     let fs = plan.sample_rate;
     let (l, r) = trundle_dsp::scene::impulse::impulse_response(

@@ -430,11 +430,7 @@ impl Preset {
             top.insert("body_eq".into(), body_eq::json::to_json(c));
         }
         if let Some(t) = &self.take {
-            let mut m = Map::new();
-            m.insert("pre_roll_s".into(), Value::from(t.pre_roll_s));
-            m.insert("fade_in_s".into(), Value::from(t.fade_in_s));
-            m.insert("fade_out_s".into(), Value::from(t.fade_out_s));
-            top.insert("take".into(), Value::Object(m));
+            top.insert("take".into(), take_to_json(t));
         }
         if let Some(m) = &self.matched {
             top.insert("match".into(), m.clone());
@@ -526,6 +522,16 @@ fn parse_automation(v: &Value) -> Result<Vec<Lane>, PresetError> {
         });
     }
     Ok(lanes)
+}
+
+/// A take as a preset writes it (and `trundle match` reports it):
+/// `{"pre_roll_s": s, "fade_in_s": s, "fade_out_s": s}`.
+pub fn take_to_json(t: &Take) -> Value {
+    let mut m = Map::new();
+    m.insert("pre_roll_s".into(), Value::from(t.pre_roll_s));
+    m.insert("fade_in_s".into(), Value::from(t.fade_in_s));
+    m.insert("fade_out_s".into(), Value::from(t.fade_out_s));
+    Value::Object(m)
 }
 
 /// A take: `{"pre_roll_s": s, "fade_in_s": s, "fade_out_s": s}`, each optional (0), nothing

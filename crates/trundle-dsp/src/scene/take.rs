@@ -118,29 +118,19 @@ impl Take {
         ramp(t, self.fade_in_s) * ramp(left, self.fade_out_s)
     }
 
-    /// Apply the fades to `samples`, interleaved with `channels` channels, the block that
-    /// starts at frame `start` of a take `frames` long. Frames outside both fades are left
-    /// as they are. Allocation-free.
-    pub fn apply(
-        &self,
-        samples: &mut [f32],
-        channels: usize,
-        start: u64,
-        frames: u64,
-        sample_rate_hz: f64,
-    ) {
+    /// Apply the fades to `samples`, one channel's block that starts at frame `start` of a
+    /// take `frames` long (each channel gets the same call). Frames outside both fades are
+    /// left as they are. Allocation-free.
+    pub fn apply(&self, samples: &mut [f32], start: u64, frames: u64, sample_rate_hz: f64) {
         if !self.has_fades() {
             return;
         }
         let fade_in = (self.fade_in_s * sample_rate_hz).ceil() as u64;
         let fade_out = (self.fade_out_s * sample_rate_hz).ceil() as u64;
-        for (k, frame) in samples.chunks_mut(channels.max(1)).enumerate() {
+        for (k, x) in samples.iter_mut().enumerate() {
             let i = start + k as u64;
             if i < fade_in || i + fade_out >= frames {
-                let g = self.gain(i, frames, sample_rate_hz) as f32;
-                for x in frame {
-                    *x *= g;
-                }
+                *x *= self.gain(i, frames, sample_rate_hz) as f32;
             }
         }
     }
@@ -160,19 +150,17 @@ mod tests {
         assert_eq!(t.gain(1000, n, fs), 1.0);
         assert!(t.gain(n - 1, n, fs) < 0.003);
         assert!((t.gain(n - 126, n, fs) - 0.502).abs() < 1e-9);
-        // Applied block by block it is the same as frame by frame, in every channel.
-        let mut x = vec![1f32; 2 * n as usize];
-        for (b, block) in x.chunks_mut(2 * 300).enumerate() {
-            t.apply(block, 2, 300 * b as u64, n, fs);
+        // Applied block by block it is the same as frame by frame.
+        let mut x = vec![1f32; n as usize];
+        for (b, block) in x.chunks_mut(300).enumerate() {
+            t.apply(block, 300 * b as u64, n, fs);
         }
         for i in 0..n {
-            let g = t.gain(i, n, fs) as f32;
-            assert_eq!(x[2 * i as usize], g);
-            assert_eq!(x[2 * i as usize + 1], g);
+            assert_eq!(x[i as usize], t.gain(i, n, fs) as f32);
         }
         // No fade: the samples untouched.
         let mut y = vec![0.3f32; 10];
-        Take::default().apply(&mut y, 1, 0, 10, fs);
+        Take::default().apply(&mut y, 0, 10, fs);
         assert!(y.iter().all(|&v| v == 0.3));
     }
 
