@@ -793,3 +793,4 @@ enum TrundleStatus trundle_voice_render_interleaved(struct TrundleVoice *voice, 
 #define TRUNDLE_PARAM_STROKE_LIFT 55 /* Stroke lift, 0 to 0.8 */
 #define TRUNDLE_PARAM_FLOOR_DB 56 /* Noise floor, -120 to -20 dB */
 #define TRUNDLE_PARAM_FLOOR_HZ 57 /* Floor tone, 50 to 20000 Hz */
+#define TRUNDLE_PARAM_STROKE_RETURN 58 /* Stroke return, 0 to 1 */

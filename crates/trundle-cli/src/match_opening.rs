@@ -174,18 +174,20 @@ pub(crate) fn judge_all(
 
 /// A start's controls: a friction start (friction > 0) searches the contact's
 /// ([`friction_dims`], anchored on the start's tuned size; the textures too when its
-/// screened `loss` is above [`TEXTURE_LOSS`]), a start with a floor the signal model's and
-/// the floor's, any other the signal model's.
+/// screened `loss` is above [`TEXTURE_LOSS`]); any other the signal model's, with the
+/// floor's when its floor is on and the strokes' return when it has strokes.
 pub(crate) fn dims_of(plan: &Plan, p: &Params, loss: f64) -> Vec<Dim> {
     if p.get(ParamId::Friction) > 0.0 {
-        friction_dims(p, loss > TEXTURE_LOSS)
-    } else if p.get(ParamId::FloorDb) > FLOOR_OFF_DB {
-        let mut d = plan.dims.to_vec();
-        d.extend(match_space::floor_dims());
-        d
-    } else {
-        plan.dims.to_vec()
+        return friction_dims(p, loss > TEXTURE_LOSS);
     }
+    let mut d = plan.dims.to_vec();
+    if p.get(ParamId::FloorDb) > FLOOR_OFF_DB {
+        d.extend(match_space::floor_dims());
+    }
+    if p.get(ParamId::Strokes) > 0.0 {
+        d.extend(match_space::stroke_dims());
+    }
+    d
 }
 
 /// The [`Opening`] of a search on `pool`, ticking `bar` per candidate.

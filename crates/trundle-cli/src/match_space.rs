@@ -94,6 +94,10 @@ pub const FLOOR_SPACE: &[Axis] = &[
     ranged("floor_hz", 50.0, 20_000.0, true),
 ];
 
+/// The strokes' push and pull, searched only from a start with strokes (a stroked recording,
+/// match_start): from every other start the control does nothing.
+pub const STROKE_SPACE: &[Axis] = &[axis("stroke_return")];
+
 /// A restart: the action corner it starts from and the discrete choices it fixes.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Restart {
@@ -188,6 +192,11 @@ pub fn dims() -> Vec<Dim> {
 /// [`FLOOR_SPACE`] resolved.
 pub fn floor_dims() -> Vec<Dim> {
     resolve(FLOOR_SPACE)
+}
+
+/// [`STROKE_SPACE`] resolved.
+pub fn stroke_dims() -> Vec<Dim> {
+    resolve(STROKE_SPACE)
 }
 
 fn resolve(axes: &[Axis]) -> Vec<Dim> {

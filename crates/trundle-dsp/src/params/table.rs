@@ -667,4 +667,15 @@ schema! {
         group: None,
         doc: "The noise floor's colour: white below this corner, falling 6 dB per octave above it (a room's rumble, a motor's hum at a few hundred Hz; 20 kHz = white), at the same RMS",
     },
+    /// The return stroke's pressure, a share of the push's ([`crate::scene::hand`]).
+    StrokeReturn {
+        key: "stroke_return",
+        name: "Stroke return",
+        unit: "",
+        values: percent(0.0, 1.0),
+        default: 1.0,
+        place: at(Panel::Motion, Section::Gesture, "Return"),
+        group: None,
+        doc: "Push and pull (a hand saw cuts on the push, a file or a plane bites one way and rides back): every other stroke, the return, presses this share of the push's force at strokes depth 1, so the sound swells loud-soft-loud at half the stroke rate; 1 = both ways alike, 0 = the return in contact but unpressed",
+    },
 }

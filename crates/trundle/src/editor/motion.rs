@@ -138,8 +138,9 @@ impl TrundleEditor {
 /// longest choice ("normal", "finger"). At the editor's default 880 px the 24 knobs and 3
 /// selectors in one row got 25 px cells, their labels overlapping and the quality selector
 /// cut off; two rows give 43 px (screenshot under Xvfb: every label and value readable; at
-/// 56 px, three rows, the knobs shrank to dots).
-const MIN_UNIT_PX: f32 = 42.0;
+/// 56 px, three rows, the knobs shrank to dots). With `stroke_return` the 25 knobs in two
+/// rows get 41 px (screenshot: still readable), so the limit is 40.
+const MIN_UNIT_PX: f32 = 40.0;
 
 /// Most rows of knobs the page wraps onto.
 const MAX_KNOB_ROWS: usize = 3;
@@ -204,9 +205,10 @@ fn acts(id: ParamId, p: &Params) -> bool {
         ParamId::MicroTone => p.get(ParamId::Micro) > 0.0,
         ParamId::CrackleLevel => p.get(ParamId::Crackle) > 0.0,
         ParamId::BumpRateHz => p.get(ParamId::Bumpiness) > 0.0,
-        ParamId::StrokeRateHz | ParamId::StrokeShape | ParamId::StrokeLift => {
-            p.get(ParamId::Strokes) > 0.0
-        }
+        ParamId::StrokeRateHz
+        | ParamId::StrokeShape
+        | ParamId::StrokeLift
+        | ParamId::StrokeReturn => p.get(ParamId::Strokes) > 0.0,
         ParamId::WanderRateHz => p.get(ParamId::Wander) > 0.0,
         ParamId::PressureN | ParamId::RubBody => p.get(ParamId::Friction) > 0.0,
         _ => true,
@@ -224,7 +226,7 @@ mod tests {
         let titles: Vec<&str> = sections.iter().map(|(s, _)| s.title()).collect();
         assert_eq!(titles, ["Gesture", "Surface", "Crowd", "Quality"]);
         let rows: usize = sections.iter().map(|(_, ids)| ids.len()).sum();
-        assert_eq!(rows, 28);
+        assert_eq!(rows, 29);
         // Each section opens with at most one selector and has a control.
         for (s, ids) in &sections {
             assert!(!ids.is_empty(), "{s:?}");
