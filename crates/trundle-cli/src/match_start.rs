@@ -219,7 +219,9 @@ pub fn stroke_period(x: &[f64], sample_rate_hz: f64) -> Option<StrokePeriod> {
 /// variance, so a² = (r(k) − r(k/2))·V/2 and the push is 2a dB over the return. `None`
 /// without such a half-period peak (one-way strokes, lifted strokes) or where the two
 /// strokes are alike (2a under [`ALTERNATION_MIN_DB`]). The corpus's hand saw:
-/// r 0.71 at its 0.57 s period and 0.36 at half of it.
+/// r 0.71 at its 0.57 s period and 0.36 at half of it. A return far lighter than the push
+/// (under about a third) correlates negatively with it, r(k/2) is a trough, and the period
+/// reads as one stroke (the search's `stroke_return` can still find it).
 fn alternation_db(r: &[f64], k: usize, var_db2: f64) -> Option<f64> {
     let lo = ((0.4 * k as f64).round() as usize).max(1);
     let hi = ((0.6 * k as f64).round() as usize).min(r.len().saturating_sub(2));

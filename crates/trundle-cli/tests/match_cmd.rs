@@ -281,6 +281,43 @@ fn a_recordings_fades_are_read_and_the_preset_plays_them() {
     assert!(r["take"].is_null(), "{:#}", r["take"]);
 }
 
+/// Strokes that push and pull (a rub at 3 strokes/s, every other stroke pressed at half the push)
+/// are read as such: strokes at 3 Hz (not their 1.5 Hz period) returning lighter, and the
+/// preset written plays a lighter return.
+#[test]
+fn a_push_and_a_lighter_pull_are_read_and_written() {
+    let s = scratch("match-push-pull");
+    let dir = s.path();
+    render(
+        dir,
+        &[
+            "action_x=1",
+            "action_y=0",
+            "strokes=1",
+            "stroke_rate_hz=3",
+            "stroke_return=0.5",
+        ],
+        "4",
+        "77",
+        "target.wav",
+    );
+    let (r, _) = matched_any(dir, &["--seconds", "4", "--budget", "24"]);
+    let start = r["start_estimate"].as_str().expect("a start estimate");
+    assert!(start.contains("returns at"), "{start}");
+    // The period (10 ms frames) places 3 strokes/s within a frame: "at 2.9x Hz" or "3.0x".
+    let rate_hz: f64 = start
+        .split("strokes 1.00 at ")
+        .nth(1)
+        .and_then(|t| t.split(' ').next())
+        .and_then(|t| t.parse().ok())
+        .unwrap_or_else(|| panic!("{start}"));
+    assert!((rate_hz - 3.0).abs() < 0.1, "{start}");
+    let preset: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("m.json")).unwrap()).unwrap();
+    let ret = preset["params"]["stroke_return"].as_f64().unwrap();
+    assert!(ret < 0.8, "{ret}");
+}
+
 #[test]
 fn tries_keep_the_search_with_the_lowest_loss_and_it_is_the_same_search_alone() {
     let s = scratch("match-tries");
