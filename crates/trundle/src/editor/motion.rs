@@ -3,10 +3,10 @@
 //! section of the rows placed on [`Panel::Motion`], laid out from the rows' places.
 //!
 //! ```text
-//! ├ GESTURE ─────────────────────────────────────────────────────┬ SURFACE ────────────────────────────┬ CROWD ───────┬ QUALITY ┤
-//! │ roll │ height bounce roll spin strokes rate shape wander rate │ seams depth path grit bumps bump rate │ balls spread │ draft    │
-//! │ drop │                                                        │                                     │ detail       │ normal   │
-//! │ spin │                                                        │                                     │              │ high …   │
+//! ├ GESTURE ──────────────────────────────────────┬ SURFACE ──────────────────────────────────┬ CROWD ───────┬ QUALITY ┤
+//! │ roll │ height bounce roll spin strokes rate    │ body │ seams depth path grit micro tone     │ balls spread │ draft    │
+//! │ drop │ shape wander rate lift return           │      │ crackle level bumps rate friction …  │ detail       │ normal   │
+//! │ spin │                                         │      │                                      │              │ high …   │
 //! ```
 //!
 //! A section's selectors stand in a column on its left, its knobs follow in table order,
