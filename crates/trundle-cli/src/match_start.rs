@@ -194,11 +194,9 @@ pub fn stroke_period(x: &[f64], sample_rate_hz: f64) -> Option<StrokePeriod> {
         }
     }
     let best = peaks.iter().map(|p| p.1).fold(f64::NEG_INFINITY, f64::max);
-    let var_db2 = {
-        let mean = e.iter().sum::<f64>() / m as f64;
-        e.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / m as f64
-    };
     peaks.iter().find(|p| p.1 >= 0.8 * best).map(|&(k, v)| {
+        let mean = e.iter().sum::<f64>() / m as f64;
+        let var_db2 = e.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / m as f64;
         let alternation_db = alternation_db(&r, k, var_db2);
         let strokes = if alternation_db.is_some() { 2.0 } else { 1.0 };
         StrokePeriod {

@@ -70,8 +70,7 @@ fn check_match(
             "play.wav",
         ],
     );
-    let preset: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("m.json")).unwrap()).unwrap();
+    let preset = common::written_preset(dir);
     assert_eq!(preset["trundle_preset"], 1);
     assert_eq!(preset["match"]["passed"], report["passed"]);
     assert!(preset["params"]["velocity"].as_f64().unwrap() <= 0.66);
@@ -211,8 +210,7 @@ fn a_recordings_fades_are_read_and_the_preset_plays_them() {
     let fade_out = r["take"]["fade_out_s"].as_f64().unwrap();
     assert!((fade_in - 0.6).abs() <= 0.15, "{:#}", r["take"]);
     assert!((fade_out - 0.4).abs() <= 0.15, "{:#}", r["take"]);
-    let preset: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("m.json")).unwrap()).unwrap();
+    let preset = common::written_preset(dir);
     assert_eq!(preset["take"], r["take"]);
     // The preset's render plays them: its first 50 ms far under its middle, and with
     // --no-fades not.
@@ -312,8 +310,7 @@ fn a_push_and_a_lighter_pull_are_read_and_written() {
         .and_then(|t| t.parse().ok())
         .unwrap_or_else(|| panic!("{start}"));
     assert!((rate_hz - 3.0).abs() < 0.1, "{start}");
-    let preset: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("m.json")).unwrap()).unwrap();
+    let preset = common::written_preset(dir);
     let ret = preset["params"]["stroke_return"].as_f64().unwrap();
     assert!(ret < 0.8, "{ret}");
 }

@@ -61,6 +61,11 @@ pub fn matched_file(dir: &Path, recording: &str, extra: &[&str]) -> (serde_json:
     (v, code)
 }
 
+/// The preset [`matched_file`] wrote (`m.json` in `dir`), as JSON.
+pub fn written_preset(dir: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(dir.join("m.json")).unwrap()).unwrap()
+}
+
 /// [`matched_file`] of `target.wav`.
 pub fn matched(dir: &Path, extra: &[&str]) -> (serde_json::Value, i32) {
     matched_file(dir, "target.wav", extra)
